@@ -1,0 +1,128 @@
+// Every parameter of every stage, with units, valid ranges and the paper's defaults.
+// A Config is plain data; Validate() checks it once and throws ConfigError naming the field
+// and the bad value. The Estimator validates the config it is given.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace freespace {
+
+// The local occupancy grid (paper: 300 x 300 cells at 0.2 m).
+struct MapConfig {
+  int width_cells = 300;      // columns, along world x; 1 .. 8192
+  int height_cells = 300;     // rows, along world y; 1 .. 8192
+  double resolution_m = 0.2;  // edge of a square cell in metres; (0, 10]
+};
+
+// The laser scanner (defaults: Valeo ScaLa, paper section V.A).
+struct SensorConfig {
+  int layers = 4;                        // points with layer >= layers are dropped; 1 .. 255
+  double min_angle_deg = -72.5;          // horizontal aperture, sensor frame, CCW
+  double max_angle_deg = 72.5;           // (min_angle, min_angle + 360]
+  double angular_resolution_deg = 0.25;  // beam spacing; beams are grouped by this; (0, 10]
+  double min_range_m = 0.1;              // echoes closer than this are invalid; >= 0
+  double max_range_m = 150.0;            // echoes at or beyond max - margin are "no echo"
+  double no_echo_margin_m = 0.01;        // see max_range_m; >= 0
+  double mount_x_m = 0.0;                // sensor position in the vehicle (odometry) frame
+  double mount_y_m = 0.0;
+  double mount_yaw_deg = 0.0;  // sensor heading relative to the vehicle's
+};
+
+// DBSCAN clutter filter (paper section II): clusters of fewer than min_cluster_size points
+// are clutter. Two echoes are neighbours when they are at most eps_m + eps_per_m * r apart,
+// r being the larger of their ranges (far points of one wall are farther apart).
+struct ClutterConfig {
+  bool enabled = true;
+  double eps_m = 0.2;        // (0, 100]
+  double eps_per_m = 0.01;   // growth of eps with range, metres per metre; [0, 1)
+  int min_points = 3;        // DBSCAN core-point threshold, the point itself included; >= 1
+  int min_cluster_size = 5;  // paper: "less than 5 points empirically"; >= 1
+};
+
+enum class SensorModelKind {
+  kEnhanced,      // full-scan polygon, each cell updated at most once per scan (paper II)
+  kConventional,  // one Bresenham ray per point (the paper's baseline)
+};
+
+// Inverse sensor model probabilities (paper V.B: 0.40 / 0.5 / 0.65) and the clamp bounds of
+// the log-odds map.
+struct SensorModelConfig {
+  SensorModelKind kind = SensorModelKind::kEnhanced;
+  double p_free = 0.40;      // (p_min, 0.5)
+  double p_occupied = 0.65;  // (0.5, p_max)
+  double p_min = 0.03;       // lower clamp of a cell's probability; (0, 0.5)
+  double p_max = 0.97;       // upper clamp; (0.5, 1)
+};
+
+enum class AlignmentKind {
+  kCircle,  // vehicle on a circle: integer shifts only (paper III)
+  kRotate,  // vehicle-centred map rotated and sub-pixel shifted (the paper's baseline)
+};
+
+// Vehicle on a circle (paper III, eqs. 1-7). The sensor origin is what the estimator places on
+// the circle and calls "the vehicle".
+struct AlignmentConfig {
+  AlignmentKind kind = AlignmentKind::kCircle;
+  int speed_window = 10;        // n of eq. (1): moving average of the last n speeds; >= 1
+  double gain_s = 0.5;          // circle radius in metres per m/s of filtered speed; >= 0
+  double margin_m = 2.0;        // the vehicle stays at least this far inside the map; >= 0
+  double max_speed_mps = 70.0;  // a pose moving faster than this (plus slack) is a jump; > 0
+  double jump_slack_m = 2.0;    // allowed extra displacement per scan; >= 0
+  int reset_after_jumps = 5;    // consecutive jumps after which the map restarts there; >= 1
+};
+
+// Normalisation, neighbourhood hysteresis and morphological opening (paper IV.A).
+struct ClassifyConfig {
+  double t_low = 0.42;           // free if p <= t_low; (0, t_high]
+  double t_high = 0.48;          // also free if p <= t_high next to a t_low cell; [t_low, 0.5)
+  double vehicle_width_m = 1.8;  // opening element: odd square of about this width; >= 0
+};
+
+// Free-space polygon: modified Douglas-Peucker (paper IV.B).
+struct PolygonConfig {
+  int max_vertices = 32;   // N; 3 .. 4096
+  double epsilon_m = 0.2;  // tolerance; >= 0
+};
+
+enum class BackendKind { kTbb, kOpenCl, kAuto };
+
+struct BackendConfig {
+  BackendKind kind = BackendKind::kTbb;
+  int threads = 0;              // TBB worker threads; 0 = all cores
+  std::string opencl_platform;  // substring of the platform name; empty = first with a device
+  std::string opencl_device;    // substring of the device name; empty = first
+};
+
+struct Config {
+  MapConfig map;
+  SensorConfig sensor;
+  ClutterConfig clutter;
+  SensorModelConfig sensor_model;
+  AlignmentConfig alignment;
+  ClassifyConfig classify;
+  PolygonConfig polygon;
+  BackendConfig backend;
+
+  // Throws ConfigError naming the first invalid field and its value.
+  void Validate() const;
+
+  // Reads a YAML document whose top-level keys are the section names above (map, sensor, ...)
+  // and whose fields are the member names; missing fields keep their defaults, unknown keys
+  // are errors. `source` names the text in messages. Throws ConfigError.
+  static Config FromYaml(const std::string& yaml_text, const std::string& source = "config");
+  static Config FromYamlFile(const std::string& path);
+
+  // The full config as YAML, every field written (round-trips through FromYaml).
+  std::string ToYaml() const;
+};
+
+// The top-level sections present in a YAML config text (e.g. to tell whether it sets the
+// sensor or leaves it to the log).
+std::vector<std::string> YamlSections(const std::string& yaml_text);
+
+const char* ToString(SensorModelKind kind);
+const char* ToString(AlignmentKind kind);
+const char* ToString(BackendKind kind);
+
+}  // namespace freespace

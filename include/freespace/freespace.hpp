@@ -1,0 +1,9 @@
+// Everything a user of the engine includes.
+#pragma once
+
+#include "freespace/config.hpp"
+#include "freespace/errors.hpp"
+#include "freespace/estimator.hpp"
+#include "freespace/io.hpp"
+#include "freespace/scan.hpp"
+#include "freespace/types.hpp"

@@ -1,0 +1,104 @@
+// Readers and writers for scan logs: CARMEN (FLASER, ROBOTLASER1), single KITTI Velodyne
+// frames cut into a ScaLa-like 4-layer scan, and the project's own multi-layer log format
+// (docs/formats.md). Malformed input is skipped and reported with file and line, never fatal
+// to the reader; the caller decides whether an issue stops the run.
+#pragma once
+
+#include <cstddef>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "freespace/config.hpp"
+#include "freespace/scan.hpp"
+
+namespace freespace {
+
+// A part of the input that could not be used: where, and why.
+struct LogIssue {
+  std::string file;
+  std::size_t line = 0;  // 1-based; 0 when it concerns the whole file
+  std::string message;
+  std::string ToString() const;  // "file:line: message"
+};
+
+enum class LogFormat { kAuto, kCarmen, kKitti, kNative };
+
+struct LogOptions {
+  LogFormat format = LogFormat::kAuto;
+  // CARMEN: ranges >= max_range - margin are "no echo". 0 = the largest range in the log
+  // (the saturation value of the scanner, e.g. 81.83 in intel.clf).
+  double carmen_max_range_m = 0.0;
+  // KITTI: the elevation (deg) of each cut layer; a point joins the nearest layer within
+  // kitti_layer_tolerance_deg. Azimuth aperture and binning follow kitti_sensor.
+  std::vector<double> kitti_layer_elevations_deg = {-1.2, -0.4, 0.4, 1.2};
+  double kitti_layer_tolerance_deg = 0.4;
+};
+
+class LogReader {
+ public:
+  virtual ~LogReader() = default;
+
+  // Reads the next full scan into `scan`; returns false at the end of the input. Lines that
+  // cannot be used are skipped and reported through TakeIssues().
+  virtual bool Next(Scan* scan) = 0;
+
+  // The line (record) of the input where the last scan returned by Next() started.
+  virtual std::size_t line() const = 0;
+  // The fraction of the input consumed, 0 .. 1.
+  virtual double progress() const = 0;
+  // The sensor geometry the log implies (layers, aperture, resolution, max range, mount).
+  const SensorConfig& sensor() const { return sensor_; }
+  const std::string& path() const { return path_; }
+
+  // Issues found since the last call.
+  std::vector<LogIssue> TakeIssues();
+
+ protected:
+  LogReader(std::string path, LogFormat format) : path_(std::move(path)), format_(format) {}
+  void Report(std::size_t line, std::string message);
+
+  std::string path_;
+  LogFormat format_;
+  SensorConfig sensor_;
+
+ private:
+  std::vector<LogIssue> issues_;
+};
+
+// Opens a log, detecting the format from the content when options.format is kAuto.
+// Throws InputError when the file cannot be opened or holds nothing recognisable.
+std::unique_ptr<LogReader> OpenLog(const std::string& path, const LogOptions& options = {});
+
+const char* ToString(LogFormat format);
+
+// Writes the project's own multi-layer log format (docs/formats.md).
+class NativeLogWriter {
+ public:
+  // Throws InputError when the file cannot be created.
+  NativeLogWriter(const std::string& path, const SensorConfig& sensor);
+  void Write(const Scan& scan);
+  void Close();
+
+ private:
+  std::string path_;
+  std::ofstream out_;
+};
+
+// Writes scans as CARMEN ROBOTLASER1 lines, one line per layer with the scan's timestamp,
+// for tools that read CARMEN logs. No-echo beams are written at the sensor's max range.
+class RobotLaserWriter {
+ public:
+  RobotLaserWriter(const std::string& path, const SensorConfig& sensor);
+  void Write(const Scan& scan);
+  void Close();
+
+ private:
+  std::string path_;
+  SensorConfig sensor_;
+  std::ofstream out_;
+  std::vector<float> ranges_;
+};
+
+}  // namespace freespace
