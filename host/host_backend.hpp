@@ -1,0 +1,74 @@
+// The TBB host backend: every kernel stage as a parallel loop over rows (or rays) on the CPU,
+// inside a task arena sized by backend.threads. It is also the oracle the OpenCL backend is
+// tested against, bit for bit. Each stage lives in the file with the kernel's stem.
+#pragma once
+
+#include <tbb/task_arena.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "backend.hpp"
+
+namespace freespace {
+
+class HostBackend final : public Backend {
+ public:
+  // threads: 0 = all cores.
+  HostBackend(const KernelParams& params, int threads);
+
+  std::string name() const override { return "tbb"; }
+
+  void Rasterize(const RasterJob& job) override;                            // host/rasterize.cpp
+  void Fuse(int row_begin, int row_end) override;                           // host/fuse.cpp
+  void Classify() override;                                                 // host/classify.cpp
+  void InSight(CellIndex vehicle, std::vector<CellIndex>* edges) override;  // host/insight.cpp
+  void Shift(int dx, int dy) override;                                      // host/shift.cpp
+  void Clear() override;
+
+  void ReadLogOdds(LogOdds* dst) override;
+  void WriteLogOdds(const LogOdds* src) override;
+  void ReadUpdateMask(std::uint8_t* dst) override;
+  void WriteUpdateMask(const std::uint8_t* src) override;
+  void ReadFree(std::uint8_t* dst) override;
+  void WriteFree(const std::uint8_t* src) override;
+
+  const LogOdds* HostLogOdds() const override { return map_.data(); }
+  const std::uint8_t* HostFree() const override { return free_.data(); }
+
+ private:
+  std::size_t cells() const { return std::size_t(params_.width) * params_.height; }
+
+  tbb::task_arena arena_;
+  std::vector<LogOdds> map_;
+  std::vector<LogOdds> map_scratch_;  // the shift writes here, then swaps
+  std::vector<std::uint8_t> update_;  // stage 1 -> stage 2
+  std::vector<std::uint8_t> level_;   // stage 3: bit 0 strong, bit 1 weak
+  std::vector<std::uint8_t> pass_a_;  // stage 3 intermediates
+  std::vector<std::uint8_t> pass_b_;
+  std::vector<std::uint8_t> free_;   // stage 3 output, stage 4 input
+  std::vector<std::int32_t> label_;  // stage 4: smallest label stopping at a cell (T)
+  std::vector<std::int32_t> stop_;   // stage 4: stop cell per label
+};
+
+// Row kernels shared by the host backend and the tests. Each computes one row exactly as the
+// OpenCL kernel of the same stem does for that row.
+namespace host {
+
+// Stage 1: toggles parity at each crossing of the polygon's edges with row `row`'s centre
+// line and turns the parity into kUpdateFree / kUpdateNone; `out` has `width` cells.
+void RasterizeRow(const std::int32_t* vertices, int vertex_count, int width, int row,
+                  std::uint8_t* out);
+
+// Stage 4: Bresenham from (x0, y0) to (x1, y1) over `free`; returns the first not-free cell
+// after the start, or the end cell, as row * width + col.
+std::int32_t CastRay(const std::uint8_t* free, int width, int x0, int y0, int x1, int y1);
+
+// floor(a / b) for b > 0.
+inline std::int64_t FloorDiv(std::int64_t a, std::int64_t b) {
+  const std::int64_t q = a / b;
+  return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+
+}  // namespace host
+}  // namespace freespace

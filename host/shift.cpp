@@ -1,0 +1,43 @@
+// The integer map shift of the vehicle-on-a-circle alignment (paper eqs. 4, 5) on the host.
+// Mirrors kernels/shift.cl: new(r, c) = old(r + dy, c + dx), unknown where there is no old
+// cell. Written to a second buffer and swapped, so rows never overlap.
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+
+#include "host_backend.hpp"
+
+namespace freespace {
+
+void HostBackend::Shift(int dx, int dy) {
+  if (dx == 0 && dy == 0) return;
+  const int width = params_.width, height = params_.height;
+  if (std::abs(dx) >= width || std::abs(dy) >= height) {
+    std::fill(map_.begin(), map_.end(), LogOdds{0});
+    return;
+  }
+  // Destination columns [c0, c1) come from source columns [c0 + dx, c1 + dx).
+  const int c0 = std::max(0, -dx), c1 = std::min(width, width - dx);
+  arena_.execute([&] {
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, height, 32), [&](const tbb::blocked_range<int>& rows) {
+          for (int r = rows.begin(); r != rows.end(); ++r) {
+            LogOdds* dst = map_scratch_.data() + std::size_t(r) * width;
+            const int sr = r + dy;
+            if (sr < 0 || sr >= height) {
+              std::memset(dst, 0, std::size_t(width) * sizeof(LogOdds));
+              continue;
+            }
+            const LogOdds* src = map_.data() + std::size_t(sr) * width;
+            std::memset(dst, 0, std::size_t(c0) * sizeof(LogOdds));
+            std::memcpy(dst + c0, src + c0 + dx, std::size_t(c1 - c0) * sizeof(LogOdds));
+            std::memset(dst + c1, 0, std::size_t(width - c1) * sizeof(LogOdds));
+          }
+        });
+  });
+  map_.swap(map_scratch_);
+}
+
+}  // namespace freespace

@@ -1,0 +1,87 @@
+// Kernel parameters from the config, and the backend factory (DESIGN.md: one interface, the
+// backend chosen by configuration; a fallback is explicit and logged, never silent).
+#include "backend.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+
+#include "freespace/errors.hpp"
+#include "host_backend.hpp"
+
+#ifdef FREESPACE_WITH_OPENCL
+#include "opencl_backend.hpp"
+#endif
+
+namespace freespace {
+
+LogOdds LogOddsFromProbability(double p) {
+  const double l = std::log(p / (1.0 - p)) * kLogOddsScale;
+  return LogOdds(std::clamp<long>(std::lround(l), -32767, 32767));
+}
+
+LogOdds LogOddsThreshold(double p) {
+  const double l = std::log(p / (1.0 - p)) * kLogOddsScale;
+  return LogOdds(std::clamp<long>(long(std::floor(l)), -32767, 32767));
+}
+
+double ProbabilityFromLogOdds(LogOdds l) {
+  return 1.0 / (1.0 + std::exp(-double(l) / kLogOddsScale));
+}
+
+KernelParams MakeKernelParams(const Config& config) {
+  KernelParams p;
+  p.width = config.map.width_cells;
+  p.height = config.map.height_cells;
+  p.l_free = LogOddsFromProbability(config.sensor_model.p_free);
+  p.l_occupied = LogOddsFromProbability(config.sensor_model.p_occupied);
+  p.l_min = LogOddsFromProbability(config.sensor_model.p_min);
+  p.l_max = LogOddsFromProbability(config.sensor_model.p_max);
+  p.t_low = LogOddsThreshold(config.classify.t_low);
+  p.t_high = LogOddsThreshold(config.classify.t_high);
+  // An odd square about the vehicle's width: side 2h + 1 closest to width / resolution.
+  const double side = config.classify.vehicle_width_m / config.map.resolution_m;
+  p.opening_radius = int(std::max(0L, std::lround((side - 1.0) / 2.0)));
+  return p;
+}
+
+bool OpenClCompiledIn() {
+#ifdef FREESPACE_WITH_OPENCL
+  return true;
+#else
+  return false;
+#endif
+}
+
+std::unique_ptr<Backend> CreateBackend(const Config& config) {
+  return CreateBackend(config.backend, MakeKernelParams(config));
+}
+
+std::unique_ptr<Backend> CreateBackend(const BackendConfig& backend, const KernelParams& params) {
+  switch (backend.kind) {
+    case BackendKind::kTbb:
+      return std::make_unique<HostBackend>(params, backend.threads);
+    case BackendKind::kOpenCl:
+#ifdef FREESPACE_WITH_OPENCL
+      return std::make_unique<OpenClBackend>(params, backend);
+#else
+      throw BackendError(
+          "backend opencl: this build of freespace has no OpenCL backend (configure with the "
+          "OpenCL headers and ICD loader installed)");
+#endif
+    case BackendKind::kAuto:
+#ifdef FREESPACE_WITH_OPENCL
+      try {
+        return std::make_unique<OpenClBackend>(params, backend);
+      } catch (const BackendError& e) {
+        std::cerr << "freespace: backend auto: OpenCL not usable (" << e.what() << "); using tbb\n";
+      }
+#else
+      std::cerr << "freespace: backend auto: built without OpenCL; using tbb\n";
+#endif
+      return std::make_unique<HostBackend>(params, backend.threads);
+  }
+  throw BackendError("unknown backend kind");
+}
+
+}  // namespace freespace
