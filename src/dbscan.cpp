@@ -1,0 +1,187 @@
+// DBSCAN as connected components: core points (at least min_points neighbours, the point
+// itself included) joined when they are neighbours, border points attached to the cluster of
+// their first core neighbour in scan order, the rest noise.
+//
+// Neighbour search in scan order. Two echoes at ranges r_i <= r_j and angular distance d are
+// at least r_j * sin(d) apart, and neighbours when at most eps + k * r_j apart, so
+// sin(d) <= eps / r_j + k <= eps / r_i + k: from echo i, only bins within asin(eps / r_i + k)
+// can hold a neighbour.
+//
+// The passes run in parallel. Clusters are joined with a lock-free union-find that always
+// links the larger root under the smaller, so every cluster ends up rooted at its smallest
+// member whatever the thread interleaving: the result is deterministic.
+#include "dbscan.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace freespace {
+namespace {
+constexpr int kGrain = 128;
+constexpr int kBlock = 256;  // candidates tested per vectorised block
+}  // namespace
+
+ClutterFilter::ClutterFilter(const ClutterConfig& config, int bins, double bin_width_rad,
+                             int threads)
+    : config_(config),
+      bins_(bins),
+      bin_width_(bin_width_rad),
+      arena_(threads > 0 ? threads : tbb::task_arena::automatic),
+      bin_start_(bins + 1, 0),
+      cursor_(bins, 0) {}
+
+int ClutterFilter::Find(int a) const {
+  while (true) {
+    const int p = parent_[a].load(std::memory_order_relaxed);
+    if (p == a) return a;
+    // Path halving: pointing a at an ancestor is always safe, roots only ever get linked.
+    const int g = parent_[p].load(std::memory_order_relaxed);
+    if (g != p) parent_[a].store(g, std::memory_order_relaxed);
+    a = g;
+  }
+}
+
+void ClutterFilter::Unite(int a, int b) {
+  while (true) {
+    a = Find(a);
+    b = Find(b);
+    if (a == b) return;
+    if (a < b) std::swap(a, b);
+    int expected = a;  // a is a root: hang it under the smaller root b
+    if (parent_[a].compare_exchange_strong(expected, b, std::memory_order_relaxed)) return;
+  }
+}
+
+void ClutterFilter::Reserve(int n) {
+  if (n <= capacity_) return;
+  capacity_ = std::max(n, 2 * capacity_);
+  parent_ = std::make_unique<std::atomic<std::int32_t>[]>(capacity_);
+}
+
+int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::uint8_t>* keep) {
+  const int n = int(points.size());
+  keep->assign(n, 1);
+  if (!config_.enabled || n == 0) return 0;
+
+  // Counting sort by bin; stable, so scan order is kept within a bin.
+  std::fill(bin_start_.begin(), bin_start_.end(), 0);
+  for (const EchoPoint& p : points) ++bin_start_[p.bin + 1];
+  for (int b = 0; b < bins_; ++b) bin_start_[b + 1] += bin_start_[b];
+  std::copy(bin_start_.begin(), bin_start_.end() - 1, cursor_.begin());
+  order_.resize(n);
+  x_.resize(n);
+  y_.resize(n);
+  r_.resize(n);
+  first_.resize(n);
+  last_.resize(n);
+  core_.resize(n);
+  cluster_.resize(n);
+  Reserve(n);
+  for (int i = 0; i < n; ++i) {
+    const int s = cursor_[points[i].bin]++;
+    order_[s] = i;
+    x_[s] = points[i].x;
+    y_[s] = points[i].y;
+    r_[s] = points[i].range;
+  }
+  // Bin window of each echo (see the file comment): [first_, last_) in sorted order.
+  for (int a = 0; a < n; ++a) {
+    const double s = config_.eps_m / std::max(double(r_[a]), 1e-6) + config_.eps_per_m;
+    // asin(s) <= 1.05 s for s <= 0.5; the exact asin only for echoes near the sensor.
+    const double reach =
+        (s <= 0.5 ? 1.05 * s : (s < 1.0 ? std::asin(s) : 2.0 * M_PI)) / bin_width_ + 1.0;
+    const int bin = points[order_[a]].bin;
+    first_[a] = bin_start_[int(std::max<double>(0, bin - reach))];
+    last_[a] = bin_start_[int(std::min<double>(bins_ - 1, bin + reach)) + 1];
+    parent_[a].store(a, std::memory_order_relaxed);
+  }
+
+  const float eps = float(config_.eps_m), k = float(config_.eps_per_m);
+  const float* x = x_.data();
+  const float* y = y_.data();
+  const float* r = r_.data();
+  auto near = [=](int a, int b) {
+    const float e = eps + k * std::max(r[a], r[b]);
+    const float dx = x[a] - x[b], dy = y[a] - y[b];
+    return dx * dx + dy * dy <= e * e;
+  };
+  auto parallel = [&](auto&& body) {
+    arena_.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<int>(0, n, kGrain),
+                        [&](const tbb::blocked_range<int>& range) {
+                          for (int a = range.begin(); a != range.end(); ++a) body(a);
+                        });
+    });
+  };
+
+  // Core points, counting outwards from each echo: in dense places the first few decide.
+  const int min_points = config_.min_points;
+  parallel([&](int a) {
+    int count = 1;
+    for (int d = 1; count < min_points && (a - d >= first_[a] || a + d < last_[a]); ++d) {
+      if (a - d >= first_[a] && near(a, a - d)) ++count;
+      if (a + d < last_[a] && near(a, a + d)) ++count;
+    }
+    core_[a] = count >= min_points;
+  });
+
+  // Clusters: neighbouring core points joined, each pair from its left point.
+  const std::uint8_t* core = core_.data();
+  parallel([&](int a) {
+    if (!core[a]) return;
+    // Per block of the window: the distance tests first, in a loop the compiler vectorises;
+    // then the few core neighbours found are joined.
+    std::uint8_t mask[kBlock];
+    const float xa = x[a], ya = y[a], ra = r[a];
+    int root = Find(a);
+    for (int begin = a + 1; begin < last_[a]; begin += kBlock) {
+      const int count = std::min(last_[a] - begin, kBlock);
+      const float* xb = x + begin;
+      const float* yb = y + begin;
+      const float* rb = r + begin;
+      const std::uint8_t* cb = core + begin;
+      for (int j = 0; j < count; ++j) {
+        const float e = eps + k * std::max(ra, rb[j]);
+        const float dx = xa - xb[j], dy = ya - yb[j];
+        mask[j] = std::uint8_t((dx * dx + dy * dy <= e * e) & cb[j]);
+      }
+      for (int j = 0; j < count; ++j) {
+        if (mask[j] && parent_[begin + j].load(std::memory_order_relaxed) != root) {
+          Unite(a, begin + j);
+          root = Find(a);
+        }
+      }
+    }
+  });
+
+  // Cluster of every echo: its root; a border echo takes its first core neighbour's.
+  parallel([&](int a) {
+    if (core_[a]) {
+      cluster_[a] = Find(a);
+      return;
+    }
+    cluster_[a] = -1;
+    for (int b = first_[a]; b < last_[a]; ++b) {
+      if (core_[b] && near(a, b)) {
+        cluster_[a] = Find(b);
+        return;
+      }
+    }
+  });
+
+  size_.assign(n, 0);
+  for (int a = 0; a < n; ++a) {
+    if (cluster_[a] >= 0) ++size_[cluster_[a]];
+  }
+  int clutter = 0;
+  for (int a = 0; a < n; ++a) {
+    const bool ok = cluster_[a] >= 0 && size_[cluster_[a]] >= config_.min_cluster_size;
+    (*keep)[order_[a]] = ok ? 1 : 0;
+    clutter += ok ? 0 : 1;
+  }
+  return clutter;
+}
+
+}  // namespace freespace

@@ -1,0 +1,58 @@
+// DBSCAN clutter filter (paper II, after Ester et al.): clusters echoes by density and drops
+// clusters smaller than min_cluster_size, and noise. Neighbours are searched in scan order:
+// only echoes whose horizontal angle can put them within eps are compared, never all pairs.
+#pragma once
+
+#include <tbb/task_arena.h>
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "freespace/config.hpp"
+
+namespace freespace {
+
+// An echo in the sensor frame (metres) with its angular bin.
+struct EchoPoint {
+  float x = 0.0f;
+  float y = 0.0f;
+  float range = 0.0f;
+  float angle = 0.0f;
+  std::int32_t bin = 0;
+};
+
+class ClutterFilter {
+ public:
+  // bins: number of angular bins; bin_width_rad: their width; threads: 0 = all cores.
+  ClutterFilter(const ClutterConfig& config, int bins, double bin_width_rad, int threads = 0);
+
+  // Sets keep[i] = 1 for echoes in clusters of at least min_cluster_size points, 0 for the
+  // rest (clutter). Returns the number of clutter echoes. Deterministic for a given input.
+  int Run(const std::vector<EchoPoint>& points, std::vector<std::uint8_t>* keep);
+
+ private:
+  int Find(int a) const;
+  void Unite(int a, int b);
+  void Reserve(int n);
+
+  ClutterConfig config_;
+  int bins_;
+  double bin_width_;
+  tbb::task_arena arena_;
+  // Points in bin order, structure of arrays.
+  std::vector<std::int32_t> bin_start_;
+  std::vector<std::int32_t> cursor_;
+  std::vector<std::int32_t> order_;  // sorted position -> input index
+  std::vector<float> x_, y_, r_;
+  // Per point, in sorted order: its search window, core flag, union-find parent, cluster.
+  std::vector<std::int32_t> first_, last_;
+  std::vector<std::uint8_t> core_;
+  std::unique_ptr<std::atomic<std::int32_t>[]> parent_;
+  int capacity_ = 0;
+  std::vector<std::int32_t> cluster_;  // root of the cluster a point belongs to, -1 for noise
+  std::vector<std::int32_t> size_;
+};
+
+}  // namespace freespace
