@@ -1,0 +1,75 @@
+// `freespace`: the command-line tool. See `freespace --help` and the README.
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "commands.hpp"
+#include "freespace/errors.hpp"
+
+namespace freespace::cli {
+
+void AddEngineOptions(CLI::App* command, EngineOptions* options) {
+  command
+      ->add_option("--config", options->config_path,
+                   "YAML config (docs/configuration.md); missing fields keep their defaults")
+      ->check(CLI::ExistingFile);
+  command->add_option("--backend", options->backend, "Compute backend, overrides the config")
+      ->check(CLI::IsMember({"tbb", "opencl", "auto"}));
+  command
+      ->add_option("--threads", options->threads,
+                   "TBB worker threads (0 = all cores), overrides the config")
+      ->check(CLI::Range(0, 1024));
+}
+
+Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_sensor) {
+  Config config;
+  bool has_sensor = false;
+  if (!options.config_path.empty()) {
+    std::ifstream in(options.config_path);
+    if (!in) throw ConfigError("config: cannot open '" + options.config_path + "'");
+    std::stringstream text;
+    text << in.rdbuf();
+    config = Config::FromYaml(text.str(), options.config_path);
+    for (const std::string& s : YamlSections(text.str())) has_sensor |= (s == "sensor");
+  }
+  if (!has_sensor && log_sensor != nullptr) config.sensor = *log_sensor;
+  if (options.backend == "tbb") config.backend.kind = BackendKind::kTbb;
+  if (options.backend == "opencl") config.backend.kind = BackendKind::kOpenCl;
+  if (options.backend == "auto") config.backend.kind = BackendKind::kAuto;
+  if (options.threads >= 0) config.backend.threads = options.threads;
+  config.Validate();
+  return config;
+}
+
+void MakeDirectories(const std::string& dir) {
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) throw InputError(dir + ": cannot create directory: " + error.message());
+}
+
+}  // namespace freespace::cli
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "freespace: static free-space detection with a laser scanner on occupancy grid maps.\n"
+      "Turns full scans plus odometry into a local occupancy grid and one free-space polygon\n"
+      "of at most N vertices per scan (Eraqi, Honer, Zuther)."};
+  app.require_subcommand(1);
+  app.footer(
+      "Exit codes: 0 ok; 1 stopped on bad input (--strict) or a failed check; 2 bad usage,\n"
+      "config, log or backend. Run `freespace <command> --help` for a command's options.");
+
+  std::vector<freespace::cli::Command> commands;
+  commands.push_back(freespace::cli::AddRunCommand(app));
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  for (auto& command : commands) {
+    if (command.app->parsed()) return command.run();
+  }
+  return freespace::cli::kExitSetup;
+}

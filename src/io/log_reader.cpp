@@ -1,0 +1,79 @@
+// LogReader basics and OpenLog(): format detection from the file's content.
+#include <fstream>
+#include <string>
+
+#include "freespace/errors.hpp"
+#include "freespace/io.hpp"
+#include "readers.hpp"
+#include "text.hpp"
+
+namespace freespace {
+
+std::string LogIssue::ToString() const {
+  return line > 0 ? file + ":" + std::to_string(line) + ": " + message : file + ": " + message;
+}
+
+std::vector<LogIssue> LogReader::TakeIssues() {
+  std::vector<LogIssue> out;
+  out.swap(issues_);
+  return out;
+}
+
+void LogReader::Report(std::size_t line, std::string message) {
+  issues_.push_back({path_, line, std::move(message)});
+}
+
+const char* ToString(LogFormat format) {
+  switch (format) {
+    case LogFormat::kAuto:
+      return "auto";
+    case LogFormat::kCarmen:
+      return "carmen";
+    case LogFormat::kKitti:
+      return "kitti";
+    case LogFormat::kNative:
+      return "freespace";
+  }
+  return "?";
+}
+
+namespace {
+
+LogFormat Detect(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open");
+  if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".bin") == 0) return LogFormat::kKitti;
+  std::string line;
+  std::vector<std::string_view> fields;
+  for (int n = 0; n < 1000 && std::getline(in, line); ++n) {
+    if (io::IsCommentOrBlank(line)) continue;
+    io::SplitFields(line, &fields);
+    if (fields[0] == "FREESPACE_LOG") return LogFormat::kNative;
+    for (const char* carmen : {"FLASER", "ROBOTLASER1", "ODOM", "PARAM", "SYNC", "RLASER",
+                               "TRUEPOS", "NEFF", "RAWLASER1", "RAWLASER2"}) {
+      if (fields[0] == carmen) return LogFormat::kCarmen;
+    }
+    throw InputError(path + ": not a recognised log (first message '" + std::string(fields[0]) +
+                     "'; expected a CARMEN log, a KITTI .bin frame or a FREESPACE_LOG file)");
+  }
+  throw InputError(path + ": empty log");
+}
+
+}  // namespace
+
+std::unique_ptr<LogReader> OpenLog(const std::string& path, const LogOptions& options) {
+  const LogFormat format = options.format == LogFormat::kAuto ? Detect(path) : options.format;
+  switch (format) {
+    case LogFormat::kCarmen:
+      return io::OpenCarmen(path, options);
+    case LogFormat::kKitti:
+      return io::OpenKitti(path, options);
+    case LogFormat::kNative:
+      return io::OpenNative(path, options);
+    case LogFormat::kAuto:
+      break;
+  }
+  throw InputError(path + ": unknown log format");
+}
+
+}  // namespace freespace

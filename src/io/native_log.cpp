@@ -1,0 +1,270 @@
+// The project's own multi-layer log format (docs/formats.md), reader and writer, and the
+// ROBOTLASER1 writer for interchange with CARMEN tools.
+//
+//   FREESPACE_LOG 1
+//   SENSOR <layers> <min_angle_deg> <max_angle_deg> <resolution_deg> <min_range_m>
+//          <max_range_m> <mount_x_m> <mount_y_m> <mount_yaw_deg>          (one line)
+//   SCAN <t_s> <x_m> <y_m> <yaw_rad> <n> then n triples <layer> <angle_deg> <range_m | ->
+//
+// One scan a line; '-' is a beam without echo; '#' starts a comment line.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "freespace/errors.hpp"
+#include "freespace/io.hpp"
+#include "readers.hpp"
+#include "text.hpp"
+
+namespace freespace {
+namespace io {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+class NativeReader final : public LogReader {
+ public:
+  NativeReader(const std::string& path, const LogOptions&)
+      : LogReader(path, LogFormat::kNative), in_(path, std::ios::binary) {
+    if (!in_) throw InputError(path + ": cannot open");
+    in_.seekg(0, std::ios::end);
+    size_ = double(in_.tellg());
+    in_.seekg(0);
+    std::string line;
+    bool header = false, sensor = false;
+    while (!sensor && NextLine(&line)) {
+      SplitFields(line, &fields_);
+      if (!header) {
+        long version = 0;
+        if (fields_.size() != 2 || fields_[0] != "FREESPACE_LOG" ||
+            !ParseInt(fields_[1], &version)) {
+          throw InputError(path + ":" + std::to_string(line_no_) +
+                           ": expected the header 'FREESPACE_LOG 1'");
+        }
+        if (version != 1) {
+          throw InputError(path + ":" + std::to_string(line_no_) + ": log version " +
+                           std::to_string(version) + " is not supported (this reader reads 1)");
+        }
+        header = true;
+        continue;
+      }
+      double v[9];
+      bool ok = fields_.size() == 10 && fields_[0] == "SENSOR";
+      for (int i = 0; ok && i < 9; ++i) ok = ParseDouble(fields_[i + 1], &v[i]);
+      if (!ok) {
+        throw InputError(path + ":" + std::to_string(line_no_) +
+                         ": expected 'SENSOR layers min_angle_deg max_angle_deg resolution_deg "
+                         "min_range_m max_range_m mount_x_m mount_y_m mount_yaw_deg'");
+      }
+      sensor_.layers = int(v[0]);
+      sensor_.min_angle_deg = v[1];
+      sensor_.max_angle_deg = v[2];
+      sensor_.angular_resolution_deg = v[3];
+      sensor_.min_range_m = v[4];
+      sensor_.max_range_m = v[5];
+      sensor_.mount_x_m = v[6];
+      sensor_.mount_y_m = v[7];
+      sensor_.mount_yaw_deg = v[8];
+      sensor = true;
+    }
+    if (!sensor) throw InputError(path + ": no SENSOR line after the header");
+  }
+
+  bool Next(Scan* scan) override {
+    std::string line;
+    while (NextLine(&line)) {
+      SplitFields(line, &fields_);
+      if (fields_[0] != "SCAN") {
+        Report(line_no_, "unknown record '" + std::string(fields_[0]) + "'; line skipped");
+        continue;
+      }
+      if (Parse(scan)) {
+        line_ = line_no_;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  std::size_t line() const override { return line_; }
+  double progress() const override {
+    if (size_ <= 0 || in_.eof()) return 1.0;
+    return std::min(1.0, double(in_.tellg()) / size_);
+  }
+
+ private:
+  bool NextLine(std::string* line) {
+    while (std::getline(in_, *line)) {
+      ++line_no_;
+      if (!IsCommentOrBlank(*line)) return true;
+    }
+    return false;
+  }
+
+  bool Parse(Scan* scan) {
+    double head[4];
+    long n = 0;
+    if (fields_.size() < 6) {
+      Report(line_no_, "SCAN: truncated line: " + std::to_string(fields_.size()) +
+                           " fields, expected at least 6; line skipped");
+      return false;
+    }
+    for (int i = 0; i < 4; ++i) {
+      if (!ParseDouble(fields_[i + 1], &head[i])) {
+        Report(line_no_, "SCAN: field " + std::to_string(i + 2) + " ('" +
+                             std::string(fields_[i + 1]) + "') is not a number; line skipped");
+        return false;
+      }
+    }
+    if (!ParseInt(fields_[5], &n) || n < 0) {
+      Report(line_no_, "SCAN: point count '" + std::string(fields_[5]) +
+                           "' is not a non-negative integer; line skipped");
+      return false;
+    }
+    if (fields_.size() != std::size_t(6 + 3 * n)) {
+      Report(line_no_, "SCAN: " + std::to_string(fields_.size()) + " fields, expected " +
+                           std::to_string(6 + 3 * n) + " for " + std::to_string(n) +
+                           " points (truncated or extra data); line skipped");
+      return false;
+    }
+    scan->timestamp_s = head[0];
+    scan->pose = {head[1], head[2], head[3]};
+    scan->points.resize(n);
+    for (long i = 0; i < n; ++i) {
+      const std::size_t f = 6 + 3 * std::size_t(i);
+      long layer = 0;
+      double angle = 0, range = 0;
+      ScanPoint& p = scan->points[i];
+      if (!ParseInt(fields_[f], &layer) || layer < 0 || layer > 255 ||
+          !ParseDouble(fields_[f + 1], &angle)) {
+        Report(line_no_, "SCAN: point " + std::to_string(i) + " ('" + std::string(fields_[f]) +
+                             " " + std::string(fields_[f + 1]) +
+                             "') needs a layer 0..255 and an angle; line skipped");
+        return false;
+      }
+      p.layer = std::uint8_t(layer);
+      p.angle_rad = float(angle * kDegToRad);
+      if (fields_[f + 2] == "-") {
+        p.echo = false;
+        p.range_m = 0.0f;
+      } else if (ParseDouble(fields_[f + 2], &range)) {
+        p.echo = true;
+        p.range_m = float(range);
+      } else {
+        Report(line_no_, "SCAN: point " + std::to_string(i) + " range '" +
+                             std::string(fields_[f + 2]) +
+                             "' is not a number or '-'; line skipped");
+        return false;
+      }
+    }
+    return true;
+  }
+
+  mutable std::ifstream in_;
+  double size_ = 0;
+  std::vector<std::string_view> fields_;
+  std::size_t line_no_ = 0;
+  std::size_t line_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<LogReader> OpenNative(const std::string& path, const LogOptions& options) {
+  return std::make_unique<NativeReader>(path, options);
+}
+
+}  // namespace io
+
+NativeLogWriter::NativeLogWriter(const std::string& path, const SensorConfig& s)
+    : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
+  if (!out_) throw InputError(path + ": cannot create");
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "FREESPACE_LOG 1\n# SENSOR layers min_angle_deg max_angle_deg resolution_deg "
+                "min_range_m max_range_m mount_x_m mount_y_m mount_yaw_deg\n"
+                "SENSOR %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n"
+                "# SCAN t_s x_m y_m yaw_rad n (layer angle_deg range_m|-)*n\n",
+                s.layers, s.min_angle_deg, s.max_angle_deg, s.angular_resolution_deg, s.min_range_m,
+                s.max_range_m, s.mount_x_m, s.mount_y_m, s.mount_yaw_deg);
+  out_ << line;
+}
+
+void NativeLogWriter::Write(const Scan& scan) {
+  std::string text;
+  text.reserve(32 + scan.points.size() * 22);
+  char buffer[96];
+  std::snprintf(buffer, sizeof buffer, "SCAN %.6f %.6f %.6f %.9f %zu", scan.timestamp_s,
+                scan.pose.x, scan.pose.y, scan.pose.yaw, scan.points.size());
+  text += buffer;
+  for (const ScanPoint& p : scan.points) {
+    const double deg = double(p.angle_rad) * 180.0 / M_PI;
+    if (p.echo) {
+      std::snprintf(buffer, sizeof buffer, " %u %.4f %.3f", unsigned(p.layer), deg,
+                    double(p.range_m));
+    } else {
+      std::snprintf(buffer, sizeof buffer, " %u %.4f -", unsigned(p.layer), deg);
+    }
+    text += buffer;
+  }
+  text += '\n';
+  out_ << text;
+  if (!out_) throw InputError(path_ + ": write failed");
+}
+
+void NativeLogWriter::Close() {
+  out_.close();
+  if (out_.fail()) throw InputError(path_ + ": write failed");
+}
+
+RobotLaserWriter::RobotLaserWriter(const std::string& path, const SensorConfig& sensor)
+    : path_(path), sensor_(sensor), out_(path, std::ios::binary | std::ios::trunc) {
+  if (!out_) throw InputError(path + ": cannot create");
+  out_ << "# ROBOTLASER1 type start_angle fov angular_res max_range accuracy remission_mode n "
+          "ranges m remissions laser_x laser_y laser_theta robot_x robot_y robot_theta tv rv "
+          "forward_safety side_safety turn_axis ipc_timestamp ipc_hostname logger_timestamp\n"
+          "# one line per layer; the layers of one scan share the timestamp\n";
+}
+
+void RobotLaserWriter::Write(const Scan& scan) {
+  const int bins =
+      int(std::floor(
+          (sensor_.max_angle_deg - sensor_.min_angle_deg) / sensor_.angular_resolution_deg + 0.5)) +
+      1;
+  const double start = sensor_.min_angle_deg * io::kDegToRad;
+  const double res = sensor_.angular_resolution_deg * io::kDegToRad;
+  const double c = std::cos(scan.pose.yaw), s = std::sin(scan.pose.yaw);
+  const double lx = scan.pose.x + c * sensor_.mount_x_m - s * sensor_.mount_y_m;
+  const double ly = scan.pose.y + s * sensor_.mount_x_m + c * sensor_.mount_y_m;
+  const double lt = scan.pose.yaw + sensor_.mount_yaw_deg * io::kDegToRad;
+  std::string text;
+  char buffer[160];
+  for (int layer = 0; layer < sensor_.layers; ++layer) {
+    ranges_.assign(bins, float(sensor_.max_range_m));
+    for (const ScanPoint& p : scan.points) {
+      if (p.layer != layer || !p.echo) continue;
+      const long b = std::lround((double(p.angle_rad) - start) / res);
+      if (b >= 0 && b < bins) ranges_[b] = std::min(ranges_[b], p.range_m);
+    }
+    std::snprintf(buffer, sizeof buffer, "ROBOTLASER1 0 %.9f %.9f %.9f %.3f 0.01 0 %d", start,
+                  (bins - 1) * res, res, sensor_.max_range_m, bins);
+    text = buffer;
+    for (const float r : ranges_) {
+      std::snprintf(buffer, sizeof buffer, " %.3f", double(r));
+      text += buffer;
+    }
+    std::snprintf(buffer, sizeof buffer,
+                  " 0 %.6f %.6f %.9f %.6f %.6f %.9f 0 0 0 0 0 %.6f freespace %.6f\n", lx, ly, lt,
+                  scan.pose.x, scan.pose.y, scan.pose.yaw, scan.timestamp_s, scan.timestamp_s);
+    text += buffer;
+    out_ << text;
+  }
+  if (!out_) throw InputError(path_ + ": write failed");
+}
+
+void RobotLaserWriter::Close() {
+  out_.close();
+  if (out_.fail()) throw InputError(path_ + ": write failed");
+}
+
+}  // namespace freespace

@@ -1,0 +1,15 @@
+// The concrete log readers, created by OpenLog().
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "freespace/io.hpp"
+
+namespace freespace::io {
+
+std::unique_ptr<LogReader> OpenCarmen(const std::string& path, const LogOptions& options);
+std::unique_ptr<LogReader> OpenKitti(const std::string& path, const LogOptions& options);
+std::unique_ptr<LogReader> OpenNative(const std::string& path, const LogOptions& options);
+
+}  // namespace freespace::io

@@ -1,0 +1,57 @@
+// Small helpers for the line-oriented log formats: splitting a line into fields and parsing
+// numbers with a message that names the field.
+#pragma once
+
+#include <cerrno>
+#include <cstdlib>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace freespace::io {
+
+// Splits `line` at spaces and tabs into `fields` (views into `line`).
+inline void SplitFields(std::string_view line, std::vector<std::string_view>* fields) {
+  fields->clear();
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+    const std::size_t start = i;
+    while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
+    if (i > start) fields->push_back(line.substr(start, i - start));
+  }
+}
+
+// Parses a whole field as a double ("nan" and "inf" included). Returns false when the field is
+// not entirely a number.
+inline bool ParseDouble(std::string_view field, double* value) {
+  char buffer[64];
+  if (field.empty() || field.size() >= sizeof buffer) return false;
+  field.copy(buffer, field.size());
+  buffer[field.size()] = '\0';
+  char* end = nullptr;
+  errno = 0;
+  *value = std::strtod(buffer, &end);
+  return end == buffer + field.size() && errno != ERANGE;
+}
+
+inline bool ParseInt(std::string_view field, long* value) {
+  char buffer[32];
+  if (field.empty() || field.size() >= sizeof buffer) return false;
+  field.copy(buffer, field.size());
+  buffer[field.size()] = '\0';
+  char* end = nullptr;
+  errno = 0;
+  *value = std::strtol(buffer, &end, 10);
+  return end == buffer + field.size() && errno != ERANGE;
+}
+
+inline bool IsCommentOrBlank(std::string_view line) {
+  for (const char c : line) {
+    if (c == '#') return true;
+    if (c != ' ' && c != '\t' && c != '\r') return false;
+  }
+  return true;
+}
+
+}  // namespace freespace::io

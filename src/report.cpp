@@ -1,0 +1,70 @@
+// Run reports: timing quantiles and the polygons.jsonl line format.
+#include "report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace freespace {
+
+double Quantile(std::vector<double>& values, double q) {
+  if (values.empty()) return 0.0;
+  const std::size_t k =
+      std::min(values.size() - 1, std::size_t(std::ceil(q * values.size())) - (q > 0 ? 1 : 0));
+  std::nth_element(values.begin(), values.begin() + k, values.end());
+  return values[k];
+}
+
+void StageSeries::Add(const StageTimes& t) {
+  preprocess_.push_back(t.preprocess_us);
+  align_.push_back(t.align_us);
+  rasterize_.push_back(t.rasterize_us);
+  fuse_.push_back(t.fuse_us);
+  classify_.push_back(t.classify_us);
+  insight_.push_back(t.insight_us);
+  polygon_.push_back(t.polygon_us);
+  total_.push_back(t.total_us);
+}
+
+nlohmann::json StageSeries::Summary() const {
+  nlohmann::json out = nlohmann::json::object();
+  const std::pair<const char*, const std::vector<double>*> stages[] = {
+      {"preprocess", &preprocess_}, {"align", &align_},
+      {"rasterize", &rasterize_},   {"fuse", &fuse_},
+      {"classify", &classify_},     {"insight", &insight_},
+      {"polygon", &polygon_},       {"total", &total_}};
+  for (const auto& [name, series] : stages) {
+    std::vector<double> v = *series;
+    const double median = Quantile(v, 0.5), p99 = Quantile(v, 0.99);
+    out[name] = {{"median", std::round(median * 100) / 100}, {"p99", std::round(p99 * 100) / 100}};
+  }
+  return out;
+}
+
+double StageSeries::MedianTotal() const {
+  std::vector<double> v = total_;
+  return Quantile(v, 0.5);
+}
+
+std::string PolygonJsonLine(std::uint64_t scan, const Result& r) {
+  std::string line;
+  line.reserve(128 + 40 * r.polygon.size());
+  char buffer[256];
+  std::snprintf(buffer, sizeof buffer,
+                "{\"scan\":%llu,\"t\":%.6f,\"status\":\"%s\",\"pose\":{\"x\":%.6f,\"y\":%.6f,"
+                "\"yaw\":%.6f},\"origin\":[%.6f,%.6f],\"vehicle_cells\":[%.4f,%.4f],"
+                "\"speed\":%.3f,\"polygon\":[",
+                static_cast<unsigned long long>(scan), r.timestamp_s, ToString(r.status), r.pose.x,
+                r.pose.y, r.pose.yaw, r.origin.x(), r.origin.y(), r.vehicle_cells.x(),
+                r.vehicle_cells.y(), r.filtered_speed_mps);
+  line += buffer;
+  for (std::size_t i = 0; i < r.polygon.size(); ++i) {
+    std::snprintf(buffer, sizeof buffer, "%s[%.4f,%.4f]", i ? "," : "", r.polygon[i].x(),
+                  r.polygon[i].y());
+    line += buffer;
+  }
+  line += "]}";
+  return line;
+}
+
+}  // namespace freespace
