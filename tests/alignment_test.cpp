@@ -1,0 +1,163 @@
+// Vehicle on a circle (paper III): static world points keep their world position while the map
+// shifts, the vehicle never leaves the map, reversing puts more map behind, yaw wraps, and bad
+// timestamps and pose jumps are rejected without changing anything.
+#include "alignment.hpp"
+
+#include <random>
+
+#include "host_backend.hpp"
+#include "test_util.hpp"
+
+namespace freespace {
+namespace {
+
+Config CircleConfig() {
+  Config c;
+  c.map.width_cells = 300;
+  c.map.height_cells = 200;
+  c.alignment.speed_window = 5;
+  c.alignment.gain_s = 0.6;
+  c.alignment.margin_m = 2.0;
+  return c;
+}
+
+TEST(Alignment, FirstScanPutsTheVehicleAtTheCentre) {
+  CircleAligner a(CircleConfig());
+  const AlignStep s = a.Align(0.0, {1e5 + 0.37, -2e4 + 0.11, 3.0});
+  ASSERT_TRUE(s.accepted);
+  EXPECT_TRUE(s.reset);
+  EXPECT_DOUBLE_EQ(s.local.x(), 150.0);
+  EXPECT_DOUBLE_EQ(s.local.y(), 100.0);
+  // The vehicle's world position is the origin plus its local position.
+  const Vec2 world = a.origin_world() + s.local * 0.2;
+  EXPECT_NEAR(world.x(), 1e5 + 0.37, 1e-9);
+  EXPECT_NEAR(world.y(), -2e4 + 0.11, 1e-9);
+}
+
+TEST(Alignment, StaticWorldPointKeepsItsWorldPositionWhileTheMapShifts) {
+  const Config config = CircleConfig();
+  CircleAligner a(config);
+  KernelParams params = MakeKernelParams(config);
+  HostBackend map(params, 1);
+  std::vector<LogOdds> cells(300 * 200, 0);
+  std::mt19937 rng(31);
+  Pose2D pose{100000.3, 2000.7, 0.4};  // far from the world origin
+  double t = 0.0;
+  a.Align(t, pose);
+  // Mark the cell holding a static world point 5 m ahead of the start.
+  const Vec2 point(pose.x + 5.0 * std::cos(pose.yaw), pose.y + 5.0 * std::sin(pose.yaw));
+  auto cell_of = [&](const Vec2& w) {
+    const Vec2 c = (w - a.origin_world()) / 0.2;
+    return std::pair<int, int>{int(std::floor(c.y())), int(std::floor(c.x()))};
+  };
+  auto [row, col] = cell_of(point);
+  cells[row * 300 + col] = 77;
+  map.WriteLogOdds(cells.data());
+  const Vec2 frac0 = (point - a.origin_world()) / 0.2;
+  for (int k = 0; k < 120; ++k) {
+    t += 0.04;
+    const double speed = 3.0 + 2.0 * std::sin(k * 0.1);
+    pose.yaw += 0.01;
+    pose.x += speed * 0.04 * std::cos(pose.yaw);
+    pose.y += speed * 0.04 * std::sin(pose.yaw);
+    const AlignStep s = a.Align(t, pose);
+    ASSERT_TRUE(s.accepted);
+    map.Shift(s.shift_x, s.shift_y);
+    // The point's position in cells changes by whole cells only.
+    const Vec2 frac = (point - a.origin_world()) / 0.2;
+    EXPECT_NEAR(frac.x() - std::floor(frac.x()), frac0.x() - std::floor(frac0.x()), 1e-6);
+    EXPECT_NEAR(frac.y() - std::floor(frac.y()), frac0.y() - std::floor(frac0.y()), 1e-6);
+    std::tie(row, col) = cell_of(point);
+    if (row >= 0 && row < 200 && col >= 0 && col < 300) {
+      map.ReadLogOdds(cells.data());
+      ASSERT_EQ(cells[row * 300 + col], 77) << "scan " << k;
+    }
+  }
+}
+
+TEST(Alignment, TheVehicleNeverLeavesTheMap) {
+  const Config config = CircleConfig();
+  CircleAligner a(config);
+  std::mt19937 rng(37);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  Pose2D pose{0, 0, 0};
+  double t = 0, speed = 0;
+  const double margin_cells = config.alignment.margin_m / config.map.resolution_m;
+  for (int k = 0; k < 5000; ++k) {
+    t += 0.04;
+    speed = std::clamp(speed + 3.0 * unit(rng), -15.0, 60.0);  // hard braking, reversing
+    pose.yaw += 0.2 * unit(rng);
+    pose.x += speed * 0.04 * std::cos(pose.yaw);
+    pose.y += speed * 0.04 * std::sin(pose.yaw);
+    const AlignStep s = a.Align(t, pose);
+    ASSERT_TRUE(s.accepted);
+    ASSERT_GE(s.local.x(), margin_cells);
+    ASSERT_LE(s.local.x(), 300 - margin_cells);
+    ASSERT_GE(s.local.y(), margin_cells);
+    ASSERT_LE(s.local.y(), 200 - margin_cells);
+  }
+}
+
+TEST(Alignment, RadiusFollowsSpeedAndReversingPutsMoreMapBehind) {
+  for (const double speed : {8.0, -8.0}) {
+    CircleAligner a(CircleConfig());
+    Pose2D pose{10, 20, 0.7};
+    AlignStep s;
+    for (int k = 0; k < 20; ++k) {
+      pose.x += speed * 0.04 * std::cos(pose.yaw);
+      pose.y += speed * 0.04 * std::sin(pose.yaw);
+      s = a.Align(0.04 * k, pose);
+      ASSERT_TRUE(s.accepted);
+    }
+    EXPECT_NEAR(s.filtered_speed_mps, speed, 1e-9);
+    EXPECT_NEAR(s.radius_m, 0.6 * std::abs(speed), 1e-9);  // radius proportional to speed
+    // Offset of the vehicle from the circle's centre along its heading: negative when driving
+    // forward (more map ahead), positive when reversing (more map behind).
+    const Vec2 heading(std::cos(pose.yaw), std::sin(pose.yaw));
+    const double along = (s.circle_point - s.circle_centre).dot(heading) * 0.2;
+    EXPECT_NEAR(along, speed > 0 ? -4.8 : 4.8, 1e-9);
+    const double map_ahead = speed > 0 ? 1 : -1;
+    EXPECT_LT(map_ahead * (s.local - s.circle_centre).dot(heading), 0.0);
+  }
+}
+
+TEST(Alignment, YawWrapsPastPiWithoutAJump) {
+  CircleAligner a(CircleConfig());
+  Pose2D pose{0, 0, 3.0};
+  for (int k = 0; k < 100; ++k) {
+    pose.yaw += 0.01;  // crosses +pi; odometry may report it unwrapped or wrapped
+    const double reported = (k % 2) ? pose.yaw : pose.yaw - 2 * M_PI;
+    pose.x += 0.4 * std::cos(pose.yaw);
+    pose.y += 0.4 * std::sin(pose.yaw);
+    const AlignStep s = a.Align(0.04 * (k + 1), {pose.x, pose.y, reported});
+    ASSERT_TRUE(s.accepted);
+    if (k == 0) continue;              // the first scan has no speed yet
+    EXPECT_GT(s.speed_mps, 9.9) << k;  // forward all along: no spurious reversing
+    EXPECT_GT(s.yaw, -M_PI);
+    EXPECT_LE(s.yaw, M_PI);
+  }
+}
+
+TEST(Alignment, RejectsBackwardsTimeAndPoseJumpsThenRestarts) {
+  Config config = CircleConfig();
+  config.alignment.reset_after_jumps = 3;
+  CircleAligner a(config);
+  ASSERT_TRUE(a.Align(1.0, {0, 0, 0}).accepted);
+  ASSERT_TRUE(a.Align(1.04, {0.4, 0, 0}).accepted);
+  const Vec2 origin = a.origin_world();
+  EXPECT_EQ(a.Align(1.04, {0.8, 0, 0}).reason, RejectReason::kTimestampNotIncreasing);
+  EXPECT_EQ(a.Align(0.5, {0.8, 0, 0}).reason, RejectReason::kTimestampNotIncreasing);
+  EXPECT_EQ(a.Align(1.08, {300.0, 0, 0}).reason, RejectReason::kPoseJump);
+  EXPECT_EQ(a.origin_world(), origin);
+  // Back on track: accepted, and the jump counter clears.
+  EXPECT_TRUE(a.Align(1.12, {0.8, 0, 0}).accepted);
+  EXPECT_EQ(a.Align(1.16, {500.0, 0, 0}).reason, RejectReason::kPoseJump);
+  EXPECT_EQ(a.Align(1.20, {500.4, 0, 0}).reason, RejectReason::kPoseJump);
+  const AlignStep restart = a.Align(1.24, {500.8, 0, 0});  // third jump in a row: restart
+  EXPECT_TRUE(restart.accepted);
+  EXPECT_TRUE(restart.reset);
+  EXPECT_TRUE(a.Align(1.28, {501.2, 0, 0}).accepted);
+}
+
+}  // namespace
+}  // namespace freespace

@@ -1,0 +1,150 @@
+// Kernel stage 3: neighbourhood hysteresis and morphological opening. Hand-made grids, OpenCV's
+// morphologyEx as an independent oracle for the opening, and both backends.
+#include <opencv2/imgproc.hpp>
+#include <random>
+
+#include "test_util.hpp"
+
+namespace freespace {
+namespace {
+
+class ClassifyTest : public ::testing::TestWithParam<BackendKind> {};
+
+// Builds a map from rows written north first: S strong free, W weak free, U unknown,
+// O occupied.
+std::vector<LogOdds> MapFromRows(const std::vector<std::string>& rows) {
+  const int height = int(rows.size()), width = int(rows[0].size());
+  std::vector<LogOdds> map(std::size_t(width) * height);
+  for (int r = 0; r < height; ++r) {
+    for (int c = 0; c < width; ++c) {
+      const char k = rows[height - 1 - r][c];
+      map[r * width + c] = k == 'S' ? -200 : k == 'W' ? -50 : k == 'O' ? 100 : 0;
+    }
+  }
+  return map;
+}
+
+std::vector<std::uint8_t> Classified(Backend& backend, const std::vector<LogOdds>& map) {
+  backend.WriteLogOdds(map.data());
+  backend.Classify();
+  std::vector<std::uint8_t> free(map.size());
+  backend.ReadFree(free.data());
+  return free;
+}
+
+std::string Render(const std::vector<std::uint8_t>& free, int width) {
+  const int height = int(free.size()) / width;
+  std::string out;
+  for (int r = height - 1; r >= 0; --r) {
+    for (int c = 0; c < width; ++c) out += free[r * width + c] ? 'F' : '.';
+    out += '\n';
+  }
+  return out;
+}
+
+TEST_P(ClassifyTest, HysteresisHandMadeGrid) {
+  const KernelParams p = test::SmallParams(5, 5, /*opening_radius=*/0);
+  ASSERT_EQ(p.t_low, -83);   // p <= 0.42
+  ASSERT_EQ(p.t_high, -21);  // p <= 0.48
+  FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), p);
+  const auto free = Classified(*backend, MapFromRows({"WWUUW",  //
+                                                      "WSUWU",  //
+                                                      "UUUUU",  //
+                                                      "OWUSW",  //
+                                                      "WOUUU"}));
+  EXPECT_EQ(Render(free, 5),
+            "FF...\n"
+            "FF...\n"
+            ".....\n"
+            "...FF\n"
+            ".....\n");
+}
+
+TEST_P(ClassifyTest, UnknownIsNeverFree) {
+  FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), test::SmallParams(6, 4, 0));
+  const auto free = Classified(*backend, std::vector<LogOdds>(24, 0));
+  EXPECT_EQ(std::count(free.begin(), free.end(), 1), 0);
+}
+
+TEST_P(ClassifyTest, OpeningKeepsOneCellHolesAndDropsNarrowCorridors) {
+  FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), test::SmallParams(7, 7, 1));
+  // All free but one occupied cell: every free cell lies in a 3 x 3 free square.
+  EXPECT_EQ(Render(Classified(*backend, MapFromRows({"SSSSSSS", "SSSSSSS", "SSSSSSS", "SSSOSSS",
+                                                     "SSSSSSS", "SSSSSSS", "SSSSSSS"})),
+                   7),
+            "FFFFFFF\nFFFFFFF\nFFFFFFF\nFFF.FFF\nFFFFFFF\nFFFFFFF\nFFFFFFF\n");
+  // Corridors 1, 2 and 3 cells wide: only the last fits the 3 x 3 element.
+  EXPECT_EQ(Render(Classified(*backend, MapFromRows({"UUUUUUU", "SSSSSSS", "UUUUUUU", "SSSSSSS",
+                                                     "SSSSSSS", "UUUUUUU", "UUUUUUU"})),
+                   7),
+            ".......\n.......\n.......\n.......\n.......\n.......\n.......\n");
+  EXPECT_EQ(Render(Classified(*backend, MapFromRows({"UUUUUUU", "USSSSSU", "USSSSSU", "USSSSSU",
+                                                     "UUUUUUU", "UUUUUUU", "UUUUUUU"})),
+                   7),
+            ".......\n.FFFFF.\n.FFFFF.\n.FFFFF.\n.......\n.......\n.......\n");
+}
+
+TEST_P(ClassifyTest, OpeningMatchesOpenCvOnRandomMasks) {
+  std::mt19937 rng(13);
+  for (const auto& [width, height] : std::vector<std::pair<int, int>>{
+           {1, 1}, {3, 11}, {17, 4}, {64, 64}, {301, 299}, {1500, 1500}}) {
+    for (const int radius : {0, 1, 2, 4}) {
+      if (width == 1500 && radius != 4) continue;
+      FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), test::SmallParams(width, height, radius));
+      // Strong cells only, so that free0 is exactly the strong mask.
+      std::vector<LogOdds> map(std::size_t(width) * height);
+      cv::Mat strong(height, width, CV_8UC1);
+      for (int r = 0; r < height; ++r) {
+        for (int c = 0; c < width; ++c) {
+          const bool s = rng() % 100 < 80;
+          map[std::size_t(r) * width + c] = s ? -300 : LogOdds(rng() % 2 ? 0 : 200);
+          strong.at<std::uint8_t>(r, c) = s ? 1 : 0;
+        }
+      }
+      cv::Mat opened;
+      const int side = 2 * radius + 1;
+      cv::morphologyEx(strong, opened, cv::MORPH_OPEN,
+                       cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)),
+                       cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+      const auto free = Classified(*backend, map);
+      for (int r = 0; r < height; ++r) {
+        for (int c = 0; c < width; ++c) {
+          ASSERT_EQ(free[std::size_t(r) * width + c], opened.at<std::uint8_t>(r, c))
+              << width << "x" << height << " radius " << radius << " at " << r << "," << c;
+        }
+      }
+    }
+  }
+}
+
+TEST_P(ClassifyTest, HysteresisMatchesTheDefinitionOnRandomMaps) {
+  std::mt19937 rng(17);
+  const int width = 53, height = 41;
+  const KernelParams p = test::SmallParams(width, height, 0);
+  FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), p);
+  std::vector<LogOdds> map(std::size_t(width) * height);
+  for (auto& m : map) m = LogOdds(int(rng() % 400) - 250);
+  const auto free = Classified(*backend, map);
+  for (int r = 0; r < height; ++r) {
+    for (int c = 0; c < width; ++c) {
+      const LogOdds l = map[r * width + c];
+      bool near_strong = false;
+      for (int dr = -1; dr <= 1; ++dr) {
+        for (int dc = -1; dc <= 1; ++dc) {
+          const int rr = r + dr, cc = c + dc;
+          if (rr >= 0 && rr < height && cc >= 0 && cc < width && map[rr * width + cc] <= p.t_low) {
+            near_strong = true;
+          }
+        }
+      }
+      const bool want = l <= p.t_low || (l <= p.t_high && near_strong);
+      ASSERT_EQ(free[r * width + c], want ? 1 : 0) << r << "," << c;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, ClassifyTest, ::testing::ValuesIn(test::AllBackends()),
+                         test::BackendParamName);
+
+}  // namespace
+}  // namespace freespace

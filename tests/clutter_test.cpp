@@ -1,0 +1,137 @@
+// The DBSCAN clutter filter: hand-made clusters, range-growing eps, and random well-separated
+// blobs against a brute-force all-pairs DBSCAN.
+#include <random>
+
+#include "dbscan.hpp"
+#include "test_util.hpp"
+
+namespace freespace {
+namespace {
+
+constexpr double kBin = 0.25 * M_PI / 180.0;
+constexpr int kBins = 581;  // -72.5 .. 72.5 deg
+
+EchoPoint At(double x, double y) {
+  EchoPoint p;
+  p.x = float(x);
+  p.y = float(y);
+  p.range = float(std::hypot(x, y));
+  p.angle = float(std::atan2(y, x));
+  p.bin = std::clamp(int(std::lround((p.angle + 72.5 * M_PI / 180.0) / kBin)), 0, kBins - 1);
+  return p;
+}
+
+ClutterConfig Params(double eps, double eps_per_m) {
+  ClutterConfig c;
+  c.eps_m = eps;
+  c.eps_per_m = eps_per_m;
+  c.min_points = 3;
+  c.min_cluster_size = 5;
+  return c;
+}
+
+TEST(Clutter, KeepsWallsAndDropsSmallClustersAndNoise) {
+  std::vector<EchoPoint> points;
+  for (int i = 0; i < 20; ++i) points.push_back(At(10.0, -2.0 + 0.2 * i));  // a wall: kept
+  for (int i = 0; i < 4; ++i) points.push_back(At(20.0, 5.0 + 0.2 * i));    // 4 points: clutter
+  for (int i = 0; i < 5; ++i) points.push_back(At(20.0, -5.0 - 0.2 * i));   // 5 points: kept
+  points.push_back(At(5.0, 3.0));                                           // rain drops
+  points.push_back(At(7.0, -1.0));
+  ClutterFilter filter(Params(0.5, 0.0), kBins, kBin);
+  std::vector<std::uint8_t> keep;
+  EXPECT_EQ(filter.Run(points, &keep), 6);
+  for (int i = 0; i < 20; ++i) EXPECT_EQ(keep[i], 1) << i;
+  for (int i = 20; i < 24; ++i) EXPECT_EQ(keep[i], 0) << i;
+  for (int i = 24; i < 29; ++i) EXPECT_EQ(keep[i], 1) << i;
+  EXPECT_EQ(keep[29], 0);
+  EXPECT_EQ(keep[30], 0);
+}
+
+TEST(Clutter, EpsGrowsWithRangeForFarWalls) {
+  // A wall at 100 m sampled every 0.25 deg: neighbours 0.44 m apart.
+  std::vector<EchoPoint> points;
+  for (int i = -20; i <= 20; ++i) {
+    const double a = i * kBin;
+    points.push_back(At(100.0 * std::cos(a), 100.0 * std::sin(a)));
+  }
+  std::vector<std::uint8_t> keep;
+  ClutterFilter fixed(Params(0.3, 0.0), kBins, kBin);
+  EXPECT_EQ(fixed.Run(points, &keep), int(points.size()));  // all noise with a fixed eps
+  ClutterFilter growing(Params(0.3, 0.005), kBins, kBin);
+  EXPECT_EQ(growing.Run(points, &keep), 0);
+}
+
+TEST(Clutter, DisabledKeepsEverything) {
+  ClutterConfig c = Params(0.5, 0.0);
+  c.enabled = false;
+  ClutterFilter filter(c, kBins, kBin);
+  std::vector<std::uint8_t> keep;
+  EXPECT_EQ(filter.Run({At(5, 0), At(30, 10)}, &keep), 0);
+  EXPECT_EQ(keep, (std::vector<std::uint8_t>{1, 1}));
+}
+
+// All-pairs DBSCAN; on well separated blobs no border point is shared, so cluster sizes and
+// the keep decision do not depend on visiting order.
+std::vector<std::uint8_t> BruteForce(const std::vector<EchoPoint>& p, const ClutterConfig& c) {
+  const int n = int(p.size());
+  auto near = [&](int i, int j) {
+    const double eps = c.eps_m + c.eps_per_m * std::max(p[i].range, p[j].range);
+    return std::hypot(double(p[i].x) - p[j].x, double(p[i].y) - p[j].y) <= eps;
+  };
+  std::vector<int> degree(n, 0);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) degree[i] += near(i, j) ? 1 : 0;
+  }
+  std::vector<int> label(n, -1);
+  int clusters = 0;
+  for (int i = 0; i < n; ++i) {
+    if (label[i] >= 0 || degree[i] < c.min_points) continue;
+    std::vector<int> stack{i};
+    label[i] = clusters;
+    while (!stack.empty()) {
+      const int k = stack.back();
+      stack.pop_back();
+      if (degree[k] < c.min_points) continue;
+      for (int j = 0; j < n; ++j) {
+        if (label[j] < 0 && near(k, j)) {
+          label[j] = clusters;
+          stack.push_back(j);
+        }
+      }
+    }
+    ++clusters;
+  }
+  std::vector<int> size(clusters, 0);
+  for (const int l : label) {
+    if (l >= 0) ++size[l];
+  }
+  std::vector<std::uint8_t> keep(n);
+  for (int i = 0; i < n; ++i) keep[i] = label[i] >= 0 && size[label[i]] >= c.min_cluster_size;
+  return keep;
+}
+
+TEST(Clutter, MatchesAllPairsDbscanOnRandomBlobs) {
+  std::mt19937 rng(29);
+  const ClutterConfig c = Params(0.4, 0.01);
+  for (int trial = 0; trial < 30; ++trial) {
+    std::vector<EchoPoint> points;
+    for (int blob = 0; blob < 25; ++blob) {
+      // Blob centres on a coarse polar grid, so blobs stay far apart.
+      const double r = 4.0 + 6.0 * (blob % 5) + 3.0 * (trial % 2);
+      const double a = (-60.0 + 25.0 * (blob / 5)) * M_PI / 180.0;
+      const int size = int(rng() % 9);
+      for (int k = 0; k < size; ++k) {
+        std::normal_distribution<double> jitter(0.0, 0.15);
+        points.push_back(At(r * std::cos(a) + jitter(rng), r * std::sin(a) + jitter(rng)));
+      }
+    }
+    std::shuffle(points.begin(), points.end(), rng);
+    ClutterFilter filter(c, kBins, kBin);
+    std::vector<std::uint8_t> keep;
+    filter.Run(points, &keep);
+    EXPECT_EQ(keep, BruteForce(points, c)) << "trial " << trial;
+  }
+}
+
+}  // namespace
+}  // namespace freespace

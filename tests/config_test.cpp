@@ -1,0 +1,94 @@
+// Config: defaults, YAML round trip, and error messages that name the field and the value.
+#include <cmath>
+
+#include "test_util.hpp"
+
+namespace freespace {
+namespace {
+
+std::string ErrorOf(const std::string& yaml) {
+  try {
+    Config::FromYaml(yaml, "test.yaml").Validate();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Config, DefaultsAreThePapersAndValid) {
+  const Config c;
+  EXPECT_NO_THROW(c.Validate());
+  EXPECT_EQ(c.map.width_cells, 300);
+  EXPECT_EQ(c.map.height_cells, 300);
+  EXPECT_DOUBLE_EQ(c.map.resolution_m, 0.2);
+  EXPECT_DOUBLE_EQ(c.sensor_model.p_free, 0.40);
+  EXPECT_DOUBLE_EQ(c.sensor_model.p_occupied, 0.65);
+  EXPECT_EQ(c.clutter.min_cluster_size, 5);
+  EXPECT_EQ(c.sensor.layers, 4);
+  EXPECT_DOUBLE_EQ(c.sensor.max_angle_deg - c.sensor.min_angle_deg, 145.0);
+}
+
+TEST(Config, YamlRoundTripKeepsEveryField) {
+  Config c;
+  c.map.width_cells = 1500;
+  c.sensor.mount_x_m = 3.7;
+  c.clutter.enabled = false;
+  c.sensor_model.kind = SensorModelKind::kConventional;
+  c.alignment.kind = AlignmentKind::kRotate;
+  c.backend.kind = BackendKind::kAuto;
+  c.backend.opencl_device = "pthread";
+  c.polygon.epsilon_m = 0.123456789;
+  const Config back = Config::FromYaml(c.ToYaml());
+  EXPECT_EQ(back.ToYaml(), c.ToYaml());
+  EXPECT_EQ(back.map.width_cells, 1500);
+  EXPECT_EQ(back.sensor_model.kind, SensorModelKind::kConventional);
+  EXPECT_DOUBLE_EQ(back.polygon.epsilon_m, 0.123456789);
+}
+
+TEST(Config, MissingFieldsKeepDefaults) {
+  const Config c = Config::FromYaml("map:\n  resolution_m: 0.1\n");
+  EXPECT_DOUBLE_EQ(c.map.resolution_m, 0.1);
+  EXPECT_EQ(c.map.width_cells, 300);
+  EXPECT_EQ(Config::FromYaml("").ToYaml(), Config().ToYaml());
+}
+
+TEST(Config, ErrorsNameTheFieldAndTheValue) {
+  EXPECT_NE(ErrorOf("map:\n  resolution_m: -1\n").find("map.resolution_m = -1"), std::string::npos);
+  EXPECT_NE(ErrorOf("map:\n  width_cells: abc\n").find("map.width_cells = 'abc'"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("mapp:\n  width_cells: 3\n").find("unknown section 'mapp'"), std::string::npos);
+  EXPECT_NE(ErrorOf("map:\n  widht_cells: 3\n").find("unknown field 'map.widht_cells'"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("backend:\n  kind: cuda\n").find("tbb | opencl | auto"), std::string::npos);
+  EXPECT_NE(ErrorOf("classify:\n  t_high: 0.5\n").find("classify.t_high = 0.5"), std::string::npos);
+  EXPECT_NE(ErrorOf("sensor_model:\n  p_free: 0.6\n").find("sensor_model.p_free = 0.6"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("polygon:\n  max_vertices: 2\n").find("polygon.max_vertices = 2"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("map: [1, 2\n").find("test.yaml: line"), std::string::npos);
+  EXPECT_NE(ErrorOf("alignment:\n  margin_m: 40\n").find("alignment.margin_m = 40"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sensor:\n  max_range_m: .nan\n").find("sensor.max_range_m = nan"),
+            std::string::npos);
+}
+
+TEST(Config, ThresholdsAgreeWithProbabilitiesOnEveryLogOdds) {
+  for (const double t : {0.05, 0.3, 0.42, 0.48, 0.4999}) {
+    const LogOdds threshold = LogOddsThreshold(t);
+    for (int l = -2000; l <= 2000; ++l) {
+      ASSERT_EQ(l <= threshold, ProbabilityFromLogOdds(LogOdds(l)) <= t) << t << " " << l;
+    }
+  }
+}
+
+TEST(Config, OpeningElementIsAnOddSquareAboutTheVehicleWidth) {
+  Config c;
+  EXPECT_EQ(MakeKernelParams(c).opening_radius, 4);  // 1.8 m / 0.2 m = 9 cells
+  c.classify.vehicle_width_m = 0.4;
+  EXPECT_EQ(MakeKernelParams(c).opening_radius, 1);  // 3 cells
+  c.classify.vehicle_width_m = 0.0;
+  EXPECT_EQ(MakeKernelParams(c).opening_radius, 0);
+}
+
+}  // namespace
+}  // namespace freespace

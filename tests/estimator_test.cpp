@@ -1,0 +1,230 @@
+// The estimator end to end: a single wall checked cell by cell, every kind of bad scan, no heap
+// allocation per scan once warm, and the real Intel lab log with the polygon properties of the
+// issue (non-empty, at most N vertices, containing the vehicle, vertices where rays stopped,
+// and no not-free cell deep inside).
+#include <random>
+
+#include "host_backend.hpp"
+#include "polygon.hpp"
+#include "test_util.hpp"
+
+long AllocationCount();  // tests/alloc_counter.cpp
+
+namespace freespace {
+namespace {
+
+using test::MakeScan;
+
+class EstimatorTest : public ::testing::TestWithParam<BackendKind> {
+ protected:
+  // A 40 x 40 map at 0.2 m; a one-layer sensor, -45 .. 45 deg at 1 deg.
+  Config WallConfig() const {
+    Config c = test::SmallConfig(40, 40, 0.2);
+    c.backend.kind = GetParam();
+    c.sensor.layers = 1;
+    c.sensor.min_angle_deg = -45;
+    c.sensor.max_angle_deg = 45;
+    c.sensor.angular_resolution_deg = 1;
+    c.sensor.max_range_m = 20;
+    c.clutter.enabled = false;
+    return c;
+  }
+  std::unique_ptr<Estimator> Make(const Config& c, std::string* skip) const {
+    try {
+      return std::make_unique<Estimator>(c);
+    } catch (const BackendError& e) {
+      *skip = e.what();
+      return nullptr;
+    }
+  }
+};
+
+#define FREESPACE_ESTIMATOR_OR_SKIP(var, config) \
+  std::string var##_skip;                        \
+  auto var = Make((config), &var##_skip);        \
+  if (!var) GTEST_SKIP() << "backend unavailable: " << var##_skip;
+
+// A wall 2 m ahead across the whole aperture (x = 2 m in the sensor frame).
+Scan WallScan(double t, int gap_from = 0, int gap_to = -1) {
+  std::vector<double> angles, ranges;
+  for (int a = -45; a <= 45; ++a) {
+    angles.push_back(a);
+    ranges.push_back(a >= gap_from && a <= gap_to ? -1.0 : 2.0 / std::cos(a * M_PI / 180.0));
+  }
+  return MakeScan(t, {0, 0, 0}, angles, ranges);
+}
+
+TEST_P(EstimatorTest, SingleWallHandChecked) {
+  FREESPACE_ESTIMATOR_OR_SKIP(estimator, WallConfig());
+  const Result& r = estimator->Process(WallScan(0.0));
+  ASSERT_EQ(r.status, ScanStatus::kOk);
+  EXPECT_EQ(r.vehicle_cells, Vec2(20, 20));  // the first scan sits at the map centre
+  const MapView map = estimator->map();
+  const KernelParams p = MakeKernelParams(WallConfig());
+  auto at = [&](double x, double y) {  // metres from the sensor
+    const int col = int(std::floor(20 + x / 0.2)), row = int(std::floor(20 + y / 0.2));
+    return map.log_odds[row * 40 + col];
+  };
+  // Cell rows north first, sensor at the centre of cell (20, 20)'s corner; F free, O occupied,
+  // . unknown. Columns 20 .. 31 (x = 0 .. 2.4 m), rows 16 .. 24 (y = -0.8 .. 1 m).
+  EXPECT_EQ(at(1.0, 0.1), p.l_free);       // between sensor and wall
+  EXPECT_EQ(at(1.9, 0.1), p.l_free);       // just before the wall
+  EXPECT_EQ(at(2.1, 0.1), p.l_occupied);   // the wall
+  EXPECT_EQ(at(2.1, -1.5), p.l_occupied);  // the wall, off axis
+  EXPECT_EQ(at(2.5, 0.1), 0);              // behind the wall: unknown
+  EXPECT_EQ(at(-0.5, 0.1), 0);             // behind the sensor: unknown
+  EXPECT_EQ(at(0.5, 1.5), 0);              // outside the 90 deg aperture: unknown
+  EXPECT_EQ(at(1.5, 1.3), p.l_free);       // inside the aperture, off axis
+  // The whole column of cells at x = 2.1 m between y = -1.9 and 1.9 m is occupied, once.
+  for (double y = -1.9; y <= 1.9; y += 0.2) EXPECT_EQ(at(2.1, y), p.l_occupied) << y;
+  // Each cell is updated at most once: no free cell holds two observations.
+  for (int i = 0; i < 1600; ++i) {
+    EXPECT_TRUE(map.log_odds[i] == 0 || map.log_odds[i] == p.l_free ||
+                map.log_odds[i] == p.l_occupied)
+        << i;
+  }
+}
+
+TEST_P(EstimatorTest, NoEchoGapIsClosedByVirtualPointsAndNeverOccupied) {
+  FREESPACE_ESTIMATOR_OR_SKIP(estimator, WallConfig());
+  estimator->Process(WallScan(0.0, -5, 5));  // beams -5 .. 5 deg see nothing
+  const MapView map = estimator->map();
+  const KernelParams p = MakeKernelParams(WallConfig());
+  auto at = [&](double x, double y) {
+    return map.log_odds[int(std::floor(20 + y / 0.2)) * 40 + int(std::floor(20 + x / 0.2))];
+  };
+  EXPECT_EQ(at(1.5, 0.1), p.l_free);  // free up to the virtual range (min of neighbours)
+  EXPECT_EQ(at(2.1, 0.1), 0);         // virtual points are never occupied
+  EXPECT_EQ(at(2.1, 1.5), p.l_occupied);
+}
+
+TEST_P(EstimatorTest, EmptyAndDarkScansAlignButDoNotUpdate) {
+  FREESPACE_ESTIMATOR_OR_SKIP(estimator, WallConfig());
+  estimator->Process(WallScan(0.0));
+  std::vector<LogOdds> before(estimator->map().log_odds, estimator->map().log_odds + 1600);
+  Scan empty;
+  empty.timestamp_s = 0.1;
+  const Result& e = estimator->Process(empty);
+  EXPECT_EQ(e.status, ScanStatus::kNoSensorUpdate);
+  EXPECT_NE(e.message.find("empty scan"), std::string::npos);
+  EXPECT_TRUE(e.polygon_contains_vehicle);
+  EXPECT_GE(e.polygon.size(), 3u);
+  Scan dark = WallScan(0.2, -45, 45);
+  const Result& d = estimator->Process(dark);
+  EXPECT_EQ(d.status, ScanStatus::kNoSensorUpdate);
+  const std::vector<LogOdds> after(estimator->map().log_odds, estimator->map().log_odds + 1600);
+  EXPECT_EQ(before, after);
+}
+
+TEST_P(EstimatorTest, BadScansAreRejectedWithAMessageAndChangeNothing) {
+  FREESPACE_ESTIMATOR_OR_SKIP(estimator, WallConfig());
+  estimator->Process(WallScan(1.0));
+  const std::vector<LogOdds> before(estimator->map().log_odds, estimator->map().log_odds + 1600);
+  struct Case {
+    Scan scan;
+    RejectReason reason;
+    const char* words;
+  };
+  std::vector<Case> cases;
+  cases.push_back({WallScan(0.5), RejectReason::kTimestampNotIncreasing, "not after"});
+  cases.push_back({WallScan(std::nan("")), RejectReason::kTimestampNotFinite, "not finite"});
+  Scan nan_pose = WallScan(1.1);
+  nan_pose.pose.yaw = std::nan("");
+  cases.push_back({nan_pose, RejectReason::kPoseNotFinite, "not finite"});
+  Scan jump = WallScan(1.1);
+  jump.pose.x = 400.0;  // hundreds of metres in 0.1 s
+  cases.push_back({jump, RejectReason::kPoseJump, "jumped 400.0 m"});
+  for (const Case& c : cases) {
+    const Result& r = estimator->Process(c.scan);
+    EXPECT_EQ(r.status, ScanStatus::kRejected);
+    EXPECT_EQ(r.reject_reason, c.reason);
+    EXPECT_NE(r.message.find(c.words), std::string::npos) << r.message;
+  }
+  const std::vector<LogOdds> after(estimator->map().log_odds, estimator->map().log_odds + 1600);
+  EXPECT_EQ(before, after);
+  EXPECT_EQ(estimator->Process(WallScan(1.2)).status, ScanStatus::kOk);
+}
+
+TEST_P(EstimatorTest, NoHeapAllocationPerScanOnceWarm) {
+  Config c = WallConfig();
+  c.map.width_cells = c.map.height_cells = 300;
+  FREESPACE_ESTIMATOR_OR_SKIP(estimator, c);
+  std::vector<Scan> scans;
+  for (int k = 0; k < 40; ++k) {
+    Scan s = WallScan(0.04 * k, k % 7, k % 7 + 3);
+    s.pose = {0.3 * k, 0.05 * k, 0.01 * k};
+    scans.push_back(s);
+  }
+  for (int k = 0; k < 20; ++k) estimator->Process(scans[k]);
+  const long before = AllocationCount();
+  for (int k = 20; k < 40; ++k) estimator->Process(scans[k]);
+  EXPECT_EQ(AllocationCount() - before, 0);
+}
+
+// Stop cells of the paper's ray scan, run serially on the map the estimator classified.
+std::vector<CellIndex> ReferenceEdges(const MapView& map, CellIndex vehicle) {
+  std::vector<char> seen(std::size_t(map.width) * map.height, 0);
+  std::vector<CellIndex> edges;
+  for (int l = 0; l < BorderLabelCount(map.height, map.width); ++l) {
+    const CellIndex target = BorderCell(l, map.height, map.width);
+    const int stop =
+        host::CastRay(map.free, map.width, vehicle.col, vehicle.row, target.col, target.row);
+    if (!seen[stop]) {
+      seen[stop] = 1;
+      edges.push_back({stop / map.width, stop % map.width});
+    }
+  }
+  return edges;
+}
+
+TEST_P(EstimatorTest, IntelLabPolygonsHoldTheirProperties) {
+  FREESPACE_REQUIRE_DATA("carmen/intel-corrected.log", path);
+  auto reader = OpenLog(path);
+  Config c;
+  c.backend.kind = GetParam();
+  c.sensor = reader->sensor();
+  c.classify.vehicle_width_m = 0.4;
+  FREESPACE_ESTIMATOR_OR_SKIP(estimator, c);
+  Scan scan;
+  int processed = 0, checked_cells = 0;
+  while (reader->Next(&scan)) {
+    const Result& r = estimator->Process(scan);
+    if (r.status == ScanStatus::kRejected) continue;
+    ++processed;
+    ASSERT_GE(r.polygon.size(), 3u) << "scan " << r.scan_index;
+    ASSERT_LE(int(r.polygon.size()), c.polygon.max_vertices);
+    ASSERT_TRUE(r.polygon_contains_vehicle) << "scan " << r.scan_index;
+    ASSERT_TRUE(PointInPolygon(r.polygon, Vec2(r.sensor_pose.x, r.sensor_pose.y)))
+        << "scan " << r.scan_index;  // in world coordinates too
+    if (r.scan_index % 10 != 0) continue;
+    // Every vertex of the unsimplified polygon is a cell where a border ray stopped.
+    const MapView map = estimator->map();
+    ASSERT_EQ(r.edge_cells, ReferenceEdges(map, r.vehicle_cell)) << "scan " << r.scan_index;
+    // The polygon shrunk by its simplification error plus one cell covers no not-free cell.
+    const double shrink = (r.simplification_error_m + c.map.resolution_m) / c.map.resolution_m;
+    for (int row = 0; row < map.height; ++row) {
+      for (int col = 0; col < map.width; ++col) {
+        if (map.free[row * map.width + col]) continue;
+        const Vec2 centre(col + 0.5, row + 0.5);
+        if (!PointInPolygon(r.polygon_cells, centre)) continue;
+        double distance = 1e9;
+        for (std::size_t k = 0; k < r.polygon_cells.size(); ++k) {
+          distance = std::min(distance,
+                              DistanceToSegment(centre, r.polygon_cells[k],
+                                                r.polygon_cells[(k + 1) % r.polygon_cells.size()]));
+        }
+        ++checked_cells;
+        ASSERT_LE(distance, shrink) << "scan " << r.scan_index << " not-free cell " << row << ","
+                                    << col << " lies " << distance << " cells inside";
+      }
+    }
+  }
+  EXPECT_EQ(processed, 906);
+  EXPECT_GT(checked_cells, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, EstimatorTest, ::testing::ValuesIn(test::AllBackends()),
+                         test::BackendParamName);
+
+}  // namespace
+}  // namespace freespace

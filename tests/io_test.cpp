@@ -1,0 +1,199 @@
+// Readers and writers: CARMEN FLASER and ROBOTLASER1 (with malformed and truncated lines), the
+// project's own log format round trip, KITTI frames cut into a ScaLa-like scan, and the real
+// logs in the shared data folder.
+#include <fstream>
+
+#include "test_util.hpp"
+
+namespace freespace {
+namespace {
+
+std::string TempFile(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string Flaser(int n, double range, double x, double t) {
+  std::string line = "FLASER " + std::to_string(n);
+  for (int i = 0; i < n; ++i) line += " " + std::to_string(i == 3 ? 81.83 : range);
+  line += " " + std::to_string(x) + " 2 0.5 " + std::to_string(x) + " 2 0.5 " + std::to_string(t) +
+          " host " + std::to_string(t);
+  return line + "\n";
+}
+
+TEST(Io, CarmenFlaserGeometryPosesAndNoEcho) {
+  const std::string path =
+      TempFile("a.log", "# comment\nPARAM x 1\nODOM 0 0 0 0 0 0 1 h 1\n" +
+                            Flaser(180, 3.5, 1.0, 10.0) + Flaser(180, 4.0, 1.5, 10.1));
+  auto reader = OpenLog(path);
+  EXPECT_EQ(reader->sensor().layers, 1);
+  EXPECT_DOUBLE_EQ(reader->sensor().min_angle_deg, -90.0);
+  EXPECT_DOUBLE_EQ(reader->sensor().max_angle_deg, 89.0);
+  EXPECT_DOUBLE_EQ(reader->sensor().angular_resolution_deg, 1.0);
+  EXPECT_DOUBLE_EQ(reader->sensor().max_range_m, 81.83);
+  Scan scan;
+  ASSERT_TRUE(reader->Next(&scan));
+  EXPECT_EQ(reader->line(), 4u);
+  ASSERT_EQ(scan.points.size(), 180u);
+  EXPECT_NEAR(scan.points[0].angle_rad, -M_PI / 2, 1e-6);
+  EXPECT_NEAR(scan.points[90].angle_rad, 0.0, 1e-6);
+  EXPECT_FLOAT_EQ(scan.points[0].range_m, 3.5f);
+  EXPECT_FALSE(scan.points[3].echo);  // the saturation value
+  EXPECT_TRUE(scan.points[4].echo);
+  EXPECT_DOUBLE_EQ(scan.pose.x, 1.0);
+  EXPECT_DOUBLE_EQ(scan.pose.yaw, 0.5);
+  EXPECT_DOUBLE_EQ(scan.timestamp_s, 10.0);
+  ASSERT_TRUE(reader->Next(&scan));
+  EXPECT_DOUBLE_EQ(scan.pose.x, 1.5);
+  EXPECT_FALSE(reader->Next(&scan));
+  EXPECT_TRUE(reader->TakeIssues().empty());
+}
+
+TEST(Io, MalformedAndTruncatedLinesAreReportedWithTheirLineAndSkipped) {
+  std::string truncated = Flaser(180, 3.0, 0, 2.0);
+  truncated = truncated.substr(0, truncated.size() / 2) + "\n";
+  std::string bad_number = Flaser(180, 3.0, 0, 3.0);
+  bad_number.replace(bad_number.find(" 3.000000"), 9, " 3.0abc");
+  const std::string path =
+      TempFile("b.log", Flaser(180, 3.0, 0, 1.0) + truncated + bad_number + "%%garbage%%\n" +
+                            "FLASER -5 1 2 3\n" + Flaser(180, 3.0, 0, 4.0));
+  auto reader = OpenLog(path);
+  Scan scan;
+  std::vector<double> times;
+  while (reader->Next(&scan)) times.push_back(scan.timestamp_s);
+  EXPECT_EQ(times, (std::vector<double>{1.0, 4.0}));
+  const auto issues = reader->TakeIssues();
+  ASSERT_EQ(issues.size(), 4u);
+  EXPECT_EQ(issues[0].line, 2u);
+  EXPECT_NE(issues[0].message.find("truncated"), std::string::npos);
+  EXPECT_EQ(issues[1].line, 3u);
+  EXPECT_NE(issues[1].message.find("'3.0abc'"), std::string::npos);
+  EXPECT_EQ(issues[2].line, 4u);
+  EXPECT_EQ(issues[3].line, 5u);
+  EXPECT_NE(issues[0].ToString().find("b.log:2: "), std::string::npos);
+}
+
+TEST(Io, RobotLaserLinesWithOneTimestampAreTheLayersOfOneScan) {
+  SensorConfig sensor;
+  sensor.layers = 3;
+  sensor.min_angle_deg = -10;
+  sensor.max_angle_deg = 10;
+  sensor.angular_resolution_deg = 0.5;
+  sensor.max_range_m = 60;
+  const std::string path = ::testing::TempDir() + "/c.log";
+  RobotLaserWriter writer(path, sensor);
+  for (int k = 0; k < 2; ++k) {
+    Scan scan = test::MakeScan(5.0 + k, {1.0 * k, 2.0, 0.25}, {}, {});
+    for (int layer = 0; layer < 3; ++layer) {
+      for (int b = 0; b <= 40; ++b) {
+        ScanPoint p;
+        p.layer = std::uint8_t(layer);
+        p.angle_rad = float((-10 + 0.5 * b) * M_PI / 180);
+        p.echo = b != 7;
+        p.range_m = float(10 + layer + 0.01 * b);
+        scan.points.push_back(p);
+      }
+    }
+    writer.Write(scan);
+  }
+  writer.Close();
+  auto reader = OpenLog(path);
+  EXPECT_EQ(reader->sensor().layers, 3);
+  EXPECT_NEAR(reader->sensor().angular_resolution_deg, 0.5, 1e-6);
+  Scan scan;
+  ASSERT_TRUE(reader->Next(&scan));
+  ASSERT_EQ(scan.points.size(), 3u * 41);
+  EXPECT_EQ(scan.points[41].layer, 1);
+  EXPECT_NEAR(scan.points[41 + 5].range_m, 11.05, 1e-3);
+  EXPECT_FALSE(scan.points[7].echo);
+  EXPECT_DOUBLE_EQ(scan.timestamp_s, 5.0);
+  ASSERT_TRUE(reader->Next(&scan));
+  EXPECT_DOUBLE_EQ(scan.pose.x, 1.0);
+  EXPECT_FALSE(reader->Next(&scan));
+  EXPECT_TRUE(reader->TakeIssues().empty());
+}
+
+TEST(Io, NativeLogRoundTripAndErrors) {
+  SensorConfig sensor;
+  sensor.mount_x_m = 3.7;
+  const std::string path = ::testing::TempDir() + "/d.fslog";
+  NativeLogWriter writer(path, sensor);
+  Scan scan =
+      test::MakeScan(1.25, {100000.123456, -5.5, 3.1}, {-72.5, 0.0, 72.25}, {12.345, -1.0, 149.0});
+  scan.points[2].layer = 3;
+  writer.Write(scan);
+  writer.Close();
+  std::ofstream(path, std::ios::app) << "SCAN 2 0 0 0 2 0 1.0 5.0\nSCAN 3 0 0 0 1 0 1.0 x\n";
+  auto reader = OpenLog(path);
+  EXPECT_DOUBLE_EQ(reader->sensor().mount_x_m, 3.7);
+  Scan back;
+  ASSERT_TRUE(reader->Next(&back));
+  EXPECT_DOUBLE_EQ(back.timestamp_s, 1.25);
+  EXPECT_NEAR(back.pose.x, 100000.123456, 1e-9);
+  ASSERT_EQ(back.points.size(), 3u);
+  EXPECT_NEAR(back.points[0].range_m, 12.345, 1e-4);
+  EXPECT_FALSE(back.points[1].echo);
+  EXPECT_EQ(back.points[2].layer, 3);
+  EXPECT_NEAR(back.points[2].angle_rad, 72.25 * M_PI / 180, 1e-6);
+  EXPECT_FALSE(reader->Next(&back));
+  const auto issues = reader->TakeIssues();
+  ASSERT_EQ(issues.size(), 2u);
+  EXPECT_NE(issues[0].message.find("expected 12"), std::string::npos);
+  EXPECT_NE(issues[1].message.find("'x'"), std::string::npos);
+}
+
+TEST(Io, UnrecognisedFilesFailWithTheirName) {
+  const std::string path = TempFile("e.txt", "hello world\n");
+  try {
+    OpenLog(path);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("e.txt: not a recognised log"), std::string::npos);
+  }
+  EXPECT_THROW(OpenLog(::testing::TempDir() + "/does-not-exist.log"), InputError);
+}
+
+TEST(Io, RealCarmenLogs) {
+  FREESPACE_REQUIRE_DATA("carmen/intel-corrected.log", path);
+  auto reader = OpenLog(path);
+  EXPECT_DOUBLE_EQ(reader->sensor().max_range_m, 81.83);
+  Scan scan;
+  int scans = 0, no_echo = 0;
+  while (reader->Next(&scan)) {
+    ++scans;
+    ASSERT_EQ(scan.points.size(), 180u);
+    for (const ScanPoint& p : scan.points) no_echo += p.echo ? 0 : 1;
+  }
+  EXPECT_EQ(scans, 910);
+  EXPECT_GT(no_echo, 0);
+  EXPECT_LT(no_echo, scans * 180 / 10);
+  EXPECT_TRUE(reader->TakeIssues().empty());
+}
+
+TEST(Io, KittiFrameIsCutIntoAScalaLikeScan) {
+  FREESPACE_REQUIRE_DATA("kitti/kitti_00_000000.bin", path);
+  auto reader = OpenLog(path);
+  EXPECT_EQ(reader->sensor().layers, 4);
+  Scan scan;
+  ASSERT_TRUE(reader->Next(&scan));
+  ASSERT_EQ(scan.points.size(), 4u * 581);
+  int echoes = 0;
+  for (const ScanPoint& p : scan.points) {
+    EXPECT_LE(std::abs(p.angle_rad), float(72.625 * M_PI / 180));
+    echoes += p.echo ? 1 : 0;
+  }
+  EXPECT_GT(echoes, 581);
+  EXPECT_FALSE(reader->Next(&scan));
+  // One frame through the estimator: a polygon around the car.
+  Config c;
+  c.sensor = reader->sensor();
+  Estimator estimator(c);
+  const Result& r = estimator.Process(scan);
+  EXPECT_EQ(r.status, ScanStatus::kOk);
+  EXPECT_GT(r.stats.kept, 500);
+  EXPECT_TRUE(r.polygon_contains_vehicle);
+}
+
+}  // namespace
+}  // namespace freespace
