@@ -1,0 +1,67 @@
+// Shared benchmark inputs.
+#include "bench_util.hpp"
+
+#include <cstdlib>
+#include <filesystem>
+
+namespace freespace::bench {
+
+std::string DataDir() {
+  if (const char* env = std::getenv("FREESPACE_DATA_DIR")) return env;
+  return FREESPACE_BENCH_DATA_DIR;
+}
+
+std::vector<Scan> LoadScans(const std::string& relative_path, SensorConfig* sensor) {
+  std::vector<Scan> scans;
+  const std::string path = DataDir() + "/" + relative_path;
+  if (!std::filesystem::exists(path)) return scans;
+  auto reader = OpenLog(path);
+  if (sensor != nullptr) *sensor = reader->sensor();
+  Scan scan;
+  while (reader->Next(&scan)) scans.push_back(scan);
+  return scans;
+}
+
+std::unique_ptr<StageInput> MakeStageInput(int cells) {
+  SensorConfig sensor;
+  std::vector<Scan> scans = LoadScans("kitti/kitti_00_000000.bin", &sensor);
+  if (scans.empty()) return nullptr;
+  auto in = std::make_unique<StageInput>();
+  in->config.map.width_cells = in->config.map.height_cells = cells;
+  in->config.sensor = sensor;
+  in->params = MakeKernelParams(in->config);
+  in->scan = scans[0];
+  in->preprocess = std::make_unique<Preprocessor>(in->config);
+  ScanStats stats;
+  in->preprocess->Run(in->scan, &stats);
+  const Vec2 local(0.5 * cells + 0.37, 0.5 * cells + 0.61);
+  in->preprocess->Project(local, 0.3, cells, cells, &in->job);
+  in->vehicle = {int(local.y()), int(local.x())};
+  // A realistic map: the scan fused five times from slightly different poses.
+  Estimator estimator(in->config);
+  for (int k = 0; k < 5; ++k) {
+    Scan s = in->scan;
+    s.timestamp_s = 0.1 * k;
+    s.pose = {0.4 * k, 0.05 * k, 0.3 + 0.01 * k};
+    estimator.Process(s);
+  }
+  const MapView view = estimator.map();
+  in->map.assign(view.log_odds, view.log_odds + std::size_t(cells) * cells);
+  return in;
+}
+
+std::unique_ptr<Backend> MakeBackend(BackendKind kind, const KernelParams& params,
+                                     std::string* why) {
+  BackendConfig config;
+  config.kind = kind;
+  try {
+    return CreateBackend(config, params);
+  } catch (const std::exception& e) {
+    *why = e.what();
+    return nullptr;
+  }
+}
+
+const char* BackendName(BackendKind kind) { return ToString(kind); }
+
+}  // namespace freespace::bench

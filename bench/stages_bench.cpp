@@ -1,0 +1,125 @@
+// One benchmark per kernel stage, per backend and map size, on a real ScaLa-like scan (a KITTI
+// frame cut to 4 layers and 145 deg). Arguments: backend (0 tbb, 1 opencl), map side in cells.
+#include "bench_util.hpp"
+#include "polygon.hpp"
+
+namespace freespace::bench {
+namespace {
+
+// Sets up the backend with the realistic map; skips the benchmark when it cannot run.
+struct Stage {
+  std::unique_ptr<StageInput> input;
+  std::unique_ptr<Backend> backend;
+  bool Ready(benchmark::State& state) {
+    input = MakeStageInput(int(state.range(1)));
+    if (!input) {
+      state.SkipWithError("recorded data not found (set FREESPACE_DATA_DIR)");
+      return false;
+    }
+    std::string why;
+    backend = MakeBackend(BackendKind(state.range(0)), input->params, &why);
+    if (!backend) {
+      state.SkipWithError(("backend unavailable: " + why).c_str());
+      return false;
+    }
+    backend->WriteLogOdds(input->map.data());
+    state.SetLabel(std::string(BackendName(BackendKind(state.range(0)))) + " " +
+                   std::to_string(state.range(1)) + "x" + std::to_string(state.range(1)));
+    return true;
+  }
+};
+
+void BM_Rasterize(benchmark::State& state) {
+  Stage s;
+  if (!s.Ready(state)) return;
+  for (auto _ : state) s.backend->Rasterize(s.input->job);
+}
+
+void BM_Fuse(benchmark::State& state) {
+  Stage s;
+  if (!s.Ready(state)) return;
+  s.backend->Rasterize(s.input->job);
+  for (auto _ : state) s.backend->Fuse(s.input->job.row_begin, s.input->job.row_end);
+}
+
+void BM_Classify(benchmark::State& state) {
+  Stage s;
+  if (!s.Ready(state)) return;
+  for (auto _ : state) s.backend->Classify();
+}
+
+void BM_InSight(benchmark::State& state) {
+  Stage s;
+  if (!s.Ready(state)) return;
+  s.backend->Classify();
+  std::vector<CellIndex> edges;
+  edges.reserve(BorderLabelCount(s.input->params.height, s.input->params.width));
+  for (auto _ : state) s.backend->InSight(s.input->vehicle, &edges);
+  state.counters["edge_cells"] = double(edges.size());
+}
+
+void BM_Shift(benchmark::State& state) {
+  Stage s;
+  if (!s.Ready(state)) return;
+  int k = 0;
+  for (auto _ : state) {
+    ++k;
+    s.backend->Shift(k % 2 ? 1 : -1, k % 2 ? -1 : 1);  // back and forth: the map stays full
+  }
+}
+
+// Host-only stages.
+void BM_Preprocess(benchmark::State& state) {
+  auto input = MakeStageInput(300);
+  if (!input) {
+    state.SkipWithError("recorded data not found (set FREESPACE_DATA_DIR)");
+    return;
+  }
+  ScanStats stats;
+  RasterJob job;
+  for (auto _ : state) {
+    input->preprocess->Run(input->scan, &stats);
+    input->preprocess->Project(Vec2(150.4, 150.6), 0.3, 300, 300, &job);
+  }
+  state.counters["points"] = double(stats.points);
+  state.counters["kept"] = double(stats.kept);
+}
+
+void BM_Polygon(benchmark::State& state) {
+  Stage s;
+  if (!s.Ready(state)) return;
+  s.backend->Classify();
+  std::vector<CellIndex> edges;
+  edges.reserve(BorderLabelCount(s.input->params.height, s.input->params.width));
+  s.backend->InSight(s.input->vehicle, &edges);
+  std::vector<Vec2> ring;
+  for (const CellIndex& c : edges) ring.emplace_back(c.col + 0.5, c.row + 0.5);
+  PolygonSimplifier simplifier(s.input->config.polygon.max_vertices,
+                               s.input->config.polygon.epsilon_m / 0.2);
+  std::vector<int> kept;
+  const Vec2 vehicle(s.input->vehicle.col + 0.5, s.input->vehicle.row + 0.5);
+  for (auto _ : state) simplifier.Simplify(ring, vehicle, &kept);
+  state.counters["vertices"] = double(kept.size());
+}
+
+void Sizes(benchmark::internal::Benchmark* b) {
+  for (const int backend : {0, 1}) {
+    for (const int cells : {300, 1500}) b->Args({backend, cells});
+  }
+  b->ArgNames({"backend", "cells"})->Unit(benchmark::kMicrosecond);
+}
+
+BENCHMARK(BM_Preprocess)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Rasterize)->Apply(Sizes);
+BENCHMARK(BM_Fuse)->Apply(Sizes);
+BENCHMARK(BM_Classify)->Apply(Sizes);
+BENCHMARK(BM_InSight)->Apply(Sizes);
+BENCHMARK(BM_Shift)->Apply(Sizes);
+BENCHMARK(BM_Polygon)
+    ->Args({0, 300})
+    ->Args({0, 1500})
+    ->ArgNames({"backend", "cells"})
+    ->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace freespace::bench
