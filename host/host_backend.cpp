@@ -19,7 +19,8 @@ HostBackend::HostBackend(const KernelParams& params, int threads)
       pass_b_(cells(), 0),
       free_(cells(), 0),
       label_(cells(), INT32_MAX),
-      stop_(BorderLabelCount(params.height, params.width), 0) {
+      stop_(BorderLabelCount(params.height, params.width), 0),
+      delta_(cells(), 0) {
   arena_.initialize();
 }
 
@@ -35,6 +36,9 @@ void HostBackend::WriteUpdateMask(const std::uint8_t* src) {
   std::memcpy(update_.data(), src, cells());
 }
 void HostBackend::ReadFree(std::uint8_t* dst) { std::memcpy(dst, free_.data(), cells()); }
+void HostBackend::ReadRayDelta(std::int32_t* dst) {
+  std::memcpy(dst, delta_.data(), cells() * sizeof(std::int32_t));
+}
 void HostBackend::WriteFree(const std::uint8_t* src) { std::memcpy(free_.data(), src, cells()); }
 
 }  // namespace freespace

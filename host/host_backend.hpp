@@ -21,6 +21,8 @@ class HostBackend final : public Backend {
 
   void Rasterize(const RasterJob& job) override;                            // host/rasterize.cpp
   void Fuse(int row_begin, int row_end) override;                           // host/fuse.cpp
+  void CastRays(const RayJob& job) override;                                // host/rays.cpp
+  void FuseRays(int row_begin, int row_end) override;                       // host/rays.cpp
   void Classify() override;                                                 // host/classify.cpp
   void InSight(CellIndex vehicle, std::vector<CellIndex>* edges) override;  // host/insight.cpp
   void Shift(int dx, int dy) override;                                      // host/shift.cpp
@@ -31,6 +33,7 @@ class HostBackend final : public Backend {
   void ReadUpdateMask(std::uint8_t* dst) override;
   void WriteUpdateMask(const std::uint8_t* src) override;
   void ReadFree(std::uint8_t* dst) override;
+  void ReadRayDelta(std::int32_t* dst) override;
   void WriteFree(const std::uint8_t* src) override;
 
   const LogOdds* HostLogOdds() const override { return map_.data(); }
@@ -49,6 +52,7 @@ class HostBackend final : public Backend {
   std::vector<std::uint8_t> free_;   // stage 3 output, stage 4 input
   std::vector<std::int32_t> label_;  // stage 4: smallest label stopping at a cell (T)
   std::vector<std::int32_t> stop_;   // stage 4: stop cell per label
+  std::vector<std::int32_t> delta_;  // conventional model: per-cell sum of one scan's rays
 };
 
 // Row kernels shared by the host backend and the tests. Each computes one row exactly as the
@@ -59,6 +63,12 @@ namespace host {
 // line and turns the parity into kUpdateFree / kUpdateNone; `out` has `width` cells.
 void RasterizeRow(const std::int32_t* vertices, int vertex_count, int width, int row,
                   std::uint8_t* out);
+
+// Conventional model: adds the deltas of the ray from (x0, y0) to (x1, y1) into `delta`
+// (width x height): l_free on every in-map cell before the end, l_occupied on the end cell.
+// Atomic adds, so rays may run in parallel.
+void AccumulateRay(std::int32_t* delta, int width, int height, int x0, int y0, int x1, int y1,
+                   int l_free, int l_occupied);
 
 // Stage 4: Bresenham from (x0, y0) to (x1, y1) over `free`; returns the first not-free cell
 // after the start, or the end cell, as row * width + col.

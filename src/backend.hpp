@@ -59,6 +59,19 @@ struct RasterJob {
   int row_end = 0;
 };
 
+// Input of the conventional inverse sensor model (the paper's baseline) for one scan: one
+// Bresenham ray per kept echo from the sensor's cell to the echo's cell.
+struct RayJob {
+  std::int32_t origin_col = 0;  // the sensor's cell; may lie outside the map
+  std::int32_t origin_row = 0;
+  // End cells: col0, row0, col1, row1, ...; may lie outside the map.
+  const std::int32_t* ends = nullptr;
+  int ray_count = 0;
+  // Rows the rays can touch; stage 2 of this model reads the same rows.
+  int row_begin = 0;
+  int row_end = 0;
+};
+
 // The in-sight labels (paper IV.A), 1-based as in the paper; label 0 of this function is the
 // paper's label 1. Left column top to bottom, bottom row west to east, right column bottom to
 // top, top row east to west: counter-clockwise in the world frame.
@@ -91,6 +104,16 @@ class Backend {
   // mask says so, clamped to [l_min, l_max].
   virtual void Fuse(int row_begin, int row_end) = 0;
 
+  // Conventional model, stage 1: for every ray, each map cell on its Bresenham line before
+  // the end cell adds l_free to that cell's delta and the end cell adds l_occupied; a cell
+  // crossed by k rays gets k updates. Cells outside the map are skipped. The per-cell sums
+  // are order-independent, so every backend gets the same deltas.
+  virtual void CastRays(const RayJob& job) = 0;
+
+  // Conventional model, stage 2: on rows [row_begin, row_end), map = clamp(map + delta) and
+  // the delta is cleared for the next scan.
+  virtual void FuseRays(int row_begin, int row_end) = 0;
+
   // Kernel stage 3. Whole map: strong = l <= t_low, weak = l <= t_high; free0 = strong, or
   // weak with a strong 8-neighbour; free = opening of free0 by the square element (cells
   // outside the map are not free).
@@ -116,6 +139,7 @@ class Backend {
   virtual void ReadUpdateMask(std::uint8_t* dst) = 0;
   virtual void WriteUpdateMask(const std::uint8_t* src) = 0;
   virtual void ReadFree(std::uint8_t* dst) = 0;
+  virtual void ReadRayDelta(std::int32_t* dst) = 0;
   virtual void WriteFree(const std::uint8_t* src) = 0;
 
   // The map and the free mask in host memory when the backend keeps them there, else null.

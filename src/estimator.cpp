@@ -146,13 +146,23 @@ const Result& Estimator::Process(const Scan& scan) {
 
   // Kernel stages 1 and 2: the enhanced inverse sensor model and the fusion.
   Clock::time_point t_fuse = t_align;
-  if (has_update) {
+  if (has_update && config_.sensor_model.kind == SensorModelKind::kEnhanced) {
     RasterJob job;
     preprocess_->Project(step.local, step.yaw, width, height, &job);
     backend_->Rasterize(job);
     const Clock::time_point t_raster = Clock::now();
     r.times.rasterize_us = Micros(t_align, t_raster);
     backend_->Fuse(job.row_begin, job.row_end);
+    t_fuse = Clock::now();
+    r.times.fuse_us = Micros(t_raster, t_fuse);
+  } else if (has_update) {
+    // The paper's baseline: one ray per kept echo, no virtual points.
+    RayJob job;
+    preprocess_->ProjectRays(step.local, step.yaw, width, height, &job);
+    backend_->CastRays(job);
+    const Clock::time_point t_raster = Clock::now();
+    r.times.rasterize_us = Micros(t_align, t_raster);
+    backend_->FuseRays(job.row_begin, job.row_end);
     t_fuse = Clock::now();
     r.times.fuse_us = Micros(t_raster, t_fuse);
   } else {

@@ -40,7 +40,7 @@ Preprocessor::Preprocessor(const Config& config)
   beams_.reserve(bins_);
   vertices_.reserve(2 * (bins_ + 1));
   occupied_.reserve(expected);
-  echoes_.reserve(expected);
+  ray_ends_.reserve(2 * expected);
 }
 
 bool Preprocessor::Run(const Scan& scan, ScanStats* stats) {
@@ -172,6 +172,30 @@ void Preprocessor::Project(const Vec2& sensor_cells, double yaw, int width, int 
   job->occupied_count = int(occupied_.size());
   job->row_begin = std::clamp(r0, 0, height);
   job->row_end = std::clamp(r1, 0, height);
+}
+
+void Preprocessor::ProjectRays(const Vec2& sensor_cells, double yaw, int width, int height,
+                               RayJob* job) {
+  const double c = std::cos(yaw), s = std::sin(yaw), k = 1.0 / resolution_m_;
+  const int origin_col = FixedFloorCell(ToFixed(sensor_cells.x()));
+  const int origin_row = FixedFloorCell(ToFixed(sensor_cells.y()));
+  int row_min = origin_row, row_max = origin_row;
+  ray_ends_.clear();
+  for (const EchoPoint& e : kept_) {
+    const int col = FixedFloorCell(ToFixed(sensor_cells.x() + (c * e.x - s * e.y) * k));
+    const int row = FixedFloorCell(ToFixed(sensor_cells.y() + (s * e.x + c * e.y) * k));
+    ray_ends_.push_back(col);
+    ray_ends_.push_back(row);
+    row_min = std::min(row_min, row);
+    row_max = std::max(row_max, row);
+  }
+  job->origin_col = origin_col;
+  job->origin_row = origin_row;
+  job->ends = ray_ends_.data();
+  job->ray_count = int(ray_ends_.size() / 2);
+  job->row_begin = std::clamp(row_min, 0, height);
+  job->row_end = std::clamp(row_max + 1, 0, height);
+  (void)width;
 }
 
 }  // namespace freespace

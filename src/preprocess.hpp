@@ -35,6 +35,9 @@ class Preprocessor {
   // fractional) with heading `yaw`. Fills `job` with pointers into this object's buffers.
   void Project(const Vec2& sensor_cells, double yaw, int width, int height, RasterJob* job);
 
+  // The conventional model's rays: from the sensor's cell to each kept echo's cell.
+  void ProjectRays(const Vec2& sensor_cells, double yaw, int width, int height, RayJob* job);
+
   const std::vector<Beam>& beams() const { return beams_; }
   // Echoes that survived the clutter filter (sensor frame).
   const std::vector<EchoPoint>& kept() const { return kept_; }
@@ -57,6 +60,7 @@ class Preprocessor {
   std::vector<Beam> beams_;
   std::vector<std::int32_t> vertices_;
   std::vector<std::int32_t> occupied_;
+  std::vector<std::int32_t> ray_ends_;
 };
 
 }  // namespace freespace
