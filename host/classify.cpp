@@ -6,90 +6,137 @@
 // cells outside the map count as not free, so the result is the union of all squares of
 // free cells that fit inside the map.
 //
-// The row functions take their sizes by value and their rows as restrict pointers: byte
-// stores may alias anything, and without that the compiler reloads every size from memory in
-// the inner loops instead of vectorising them.
+// The masks are handled as bitsets, 64 cells a word: a row erosion is a few shifts and ANDs
+// per word, a column erosion one AND per word and row. The free mask stays a bitset: the
+// in-sight stage reads it as such, and ReadFree() unpacks it for views and tests.
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cstring>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "host_backend.hpp"
 
 namespace freespace {
 namespace {
 
-constexpr std::uint8_t kStrong = 1;
-constexpr std::uint8_t kWeak = 2;
-
-// Pass 1: bit 0 = strong (l <= t_low), bit 1 = weak (l <= t_high).
-void LevelRow(const LogOdds* __restrict m, std::uint8_t* __restrict out, int width, LogOdds t_low,
-              LogOdds t_high) {
-  for (int c = 0; c < width; ++c) {
-    const std::uint8_t strong = m[c] <= t_low;
-    const std::uint8_t weak = m[c] <= t_high;
-    out[c] = std::uint8_t(strong | (weak << 1));
+// A row of bitset words with one zero word on each side, so that shifted reads need no
+// bounds checks. Rows are at most 8192 cells = 128 words.
+struct PaddedRow {
+  std::uint64_t word[130];
+  std::uint64_t* data() { return word + 1; }
+  void Clear(int words) {
+    word[0] = 0;
+    word[words + 1] = 0;
   }
+};
+
+// Bit c of the result is bit c + d (0 < d < 64) of the padded row x; same for c - d.
+inline std::uint64_t Right(const std::uint64_t* x, int w, int d) {
+  return (x[w] >> d) | (x[w + 1] << (64 - d));
+}
+inline std::uint64_t Left(const std::uint64_t* x, int w, int d) {
+  return (x[w] << d) | (x[w - 1] >> (64 - d));
+}
+// The same for any d >= 0 (elements wider than 64 cells), reading 0 outside the row.
+inline std::uint64_t Far(const std::uint64_t* x, int words, int w, int d) {
+  const int bit = w * 64 + d, word = bit >> 6, offset = bit & 63;
+  auto at = [&](int i) { return (i >= 0 && i < words) ? x[i] : 0; };
+  return offset == 0 ? at(word) : (at(word) >> offset) | (at(word + 1) << (64 - offset));
 }
 
-// Pass 2a: free0 = strong, or weak with a strong cell among its 8 neighbours. `lo` / `hi` are
-// the rows below / above (null at the map's edge); `near` is scratch.
-void HysteresisRow(const std::uint8_t* __restrict lo, const std::uint8_t* __restrict mid,
-                   const std::uint8_t* __restrict hi, std::uint8_t* __restrict near,
-                   std::uint8_t* __restrict out, int width) {
-  for (int c = 0; c < width; ++c) near[c] = mid[c] & kStrong;
-  if (lo != nullptr) {
-    for (int c = 0; c < width; ++c) near[c] |= lo[c] & kStrong;
-  }
-  if (hi != nullptr) {
-    for (int c = 0; c < width; ++c) near[c] |= hi[c] & kStrong;
-  }
-  // Interior without branches (vectorises); the two edge cells apart.
-  auto cell = [&](int c, std::uint8_t around) {
-    return std::uint8_t((mid[c] & kStrong) | ((mid[c] >> 1) & around));
-  };
-  for (int c = 1; c + 1 < width; ++c) {
-    out[c] = cell(c, std::uint8_t(near[c - 1] | near[c] | near[c + 1]));
-  }
-  out[0] = cell(0, std::uint8_t(near[0] | (width > 1 ? near[1] : 0)));
-  if (width > 1) out[width - 1] = cell(width - 1, std::uint8_t(near[width - 2] | near[width - 1]));
-}
-
-// out[c] = AND of in[c - h .. c + h]; 0 where the window leaves the row.
-void ErodeRow(const std::uint8_t* __restrict in, std::uint8_t* __restrict out, int width, int h) {
-  if (2 * h + 1 > width) {
-    std::memset(out, 0, width);
-    return;
-  }
-  std::memset(out, 0, h);
-  std::memset(out + width - h, 0, h);
-  std::memcpy(out + h, in, width - 2 * h);
-  for (int d = 1; d <= 2 * h; ++d) {
-    const std::uint8_t* __restrict shifted = in + d - h;
-    for (int c = h; c < width - h; ++c) out[c] &= shifted[c];
-  }
-}
-
-// out[c] = OR of in[c - h .. c + h] inside the row.
-void DilateRow(const std::uint8_t* __restrict in, std::uint8_t* __restrict out, int width, int h) {
-  std::memcpy(out, in, width);
-  for (int d = 1; d <= h; ++d) {
-    for (int c = 0; c + d < width; ++c) out[c] |= in[c + d];
-    for (int c = d; c < width; ++c) out[c] |= in[c - d];
-  }
-}
-
-// out = AND (erode) or OR (dilate) of `count` rows starting at `first`, `stride` apart.
-void CombineRows(const std::uint8_t* first, std::size_t stride, int count,
-                 std::uint8_t* __restrict out, int width, bool erode) {
-  std::memcpy(out, first, width);
-  for (int k = 1; k < count; ++k) {
-    const std::uint8_t* __restrict in = first + k * stride;
-    if (erode) {
-      for (int c = 0; c < width; ++c) out[c] &= in[c];
-    } else {
-      for (int c = 0; c < width; ++c) out[c] |= in[c];
+// out = AND (erode) or OR (dilate) of x shifted by -h .. h within the row.
+void RowMorphology(const std::uint64_t* x, int words, int h, bool erode, std::uint64_t* out) {
+  for (int w = 0; w < words; ++w) {
+    std::uint64_t v = x[w];
+    for (int d = 1; d <= h; ++d) {
+      const std::uint64_t right = d < 64 ? Right(x, w, d) : Far(x, words, w, d);
+      const std::uint64_t left = d < 64 ? Left(x, w, d) : Far(x, words, w, -d);
+      v = erode ? (v & right & left) : (v | right | left);
     }
+    out[w] = v;
+  }
+}
+
+// Pass 1: strong (l <= t_low) and weak (l <= t_high) bits of a row.
+void LevelRow(const LogOdds* m, std::uint64_t* strong, std::uint64_t* weak, int width,
+              LogOdds t_low, LogOdds t_high) {
+  const int words = (width + 63) / 64;
+  for (int w = 0; w < words; ++w) {
+    const int c0 = w * 64;
+    std::uint64_t s = 0, k = 0;
+    int c = c0;
+#if defined(__SSE2__)
+    // 16 cells at a time: l <= t  <=>  t + 1 > l (thresholds are below 32767).
+    const __m128i low = _mm_set1_epi16(std::int16_t(t_low + 1));
+    const __m128i high = _mm_set1_epi16(std::int16_t(t_high + 1));
+    for (; c + 16 <= std::min(c0 + 64, width); c += 16) {
+      const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(m + c));
+      const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(m + c + 8));
+      const int ms =
+          _mm_movemask_epi8(_mm_packs_epi16(_mm_cmpgt_epi16(low, a), _mm_cmpgt_epi16(low, b)));
+      const int mk =
+          _mm_movemask_epi8(_mm_packs_epi16(_mm_cmpgt_epi16(high, a), _mm_cmpgt_epi16(high, b)));
+      s |= std::uint64_t(std::uint16_t(ms)) << (c - c0);
+      k |= std::uint64_t(std::uint16_t(mk)) << (c - c0);
+    }
+#endif
+    for (; c < std::min(c0 + 64, width); ++c) {
+      s |= std::uint64_t(m[c] <= t_low) << (c - c0);
+      k |= std::uint64_t(m[c] <= t_high) << (c - c0);
+    }
+    strong[w] = s;
+    weak[w] = k;
+  }
+}
+
+// Pass 2: free0 = strong, or weak with a strong cell among its 8 neighbours; then the row
+// erosion. `lo` / `hi` are the strong rows below / above (null at the map's edge).
+void HysteresisErodeRow(const std::uint64_t* lo, const std::uint64_t* strong,
+                        const std::uint64_t* hi, const std::uint64_t* weak, std::uint64_t* out,
+                        int words, int h) {
+  PaddedRow near, free0;
+  near.Clear(words);
+  free0.Clear(words);
+  std::uint64_t* n = near.data();
+  std::uint64_t* f = free0.data();
+  for (int w = 0; w < words; ++w) n[w] = strong[w] | (lo ? lo[w] : 0) | (hi ? hi[w] : 0);
+  for (int w = 0; w < words; ++w) {
+    f[w] = strong[w] | (weak[w] & (n[w] | Right(n, w, 1) | Left(n, w, 1)));
+  }
+  RowMorphology(f, words, h, true, out);
+}
+
+// Pass 3: column erosion of rows r - h .. r + h, then the row dilation.
+void ErodeColumnsDilateRow(const std::uint64_t* rows, int words, int r, int height, int h,
+                           std::uint64_t valid_last, std::uint64_t* out) {
+  PaddedRow eroded;
+  eroded.Clear(words);
+  std::uint64_t* e = eroded.data();
+  if (r < h || r + h >= height) {
+    std::fill(e, e + words, 0);
+  } else {
+    std::copy(rows + std::size_t(r - h) * words, rows + std::size_t(r - h + 1) * words, e);
+    for (int d = r - h + 1; d <= r + h; ++d) {
+      const std::uint64_t* row = rows + std::size_t(d) * words;
+      for (int w = 0; w < words; ++w) e[w] &= row[w];
+    }
+  }
+  RowMorphology(e, words, h, false, out);
+  out[words - 1] &= valid_last;  // nothing beyond the row's last cell
+}
+
+// Pass 4: column dilation of rows r - h .. r + h.
+void DilateColumnsRow(const std::uint64_t* rows, int words, int r, int height, int h,
+                      std::uint64_t* out) {
+  const int d0 = std::max(0, r - h), d1 = std::min(height - 1, r + h);
+  std::copy(rows + std::size_t(d0) * words, rows + std::size_t(d0 + 1) * words, out);
+  for (int d = d0 + 1; d <= d1; ++d) {
+    const std::uint64_t* row = rows + std::size_t(d) * words;
+    for (int w = 0; w < words; ++w) out[w] |= row[w];
   }
 }
 
@@ -98,12 +145,15 @@ void CombineRows(const std::uint8_t* first, std::size_t stride, int count,
 void HostBackend::Classify() {
   const int width = params_.width, height = params_.height, h = params_.opening_radius;
   const LogOdds t_low = params_.t_low, t_high = params_.t_high;
-  const std::size_t w = std::size_t(width);
+  const int words = (width + 63) / 64;
+  const std::size_t w = std::size_t(width), nw = std::size_t(words);
+  const std::uint64_t valid_last = (width % 64) ? (~0ull >> (64 - width % 64)) : ~0ull;
   const LogOdds* map = map_.data();
-  std::uint8_t* level = level_.data();
-  std::uint8_t* a = pass_a_.data();
-  std::uint8_t* b = pass_b_.data();
-  std::uint8_t* f = free_.data();
+  std::uint64_t* strong = bits_strong_.data();
+  std::uint64_t* weak = bits_weak_.data();
+  std::uint64_t* a = bits_a_.data();
+  std::uint64_t* b = bits_b_.data();
+  std::uint64_t* f = free_.data();
 
   auto rows = [this, height](auto&& body) {
     arena_.execute([&] {
@@ -113,32 +163,14 @@ void HostBackend::Classify() {
                         });
     });
   };
-
-  rows([=](int r) { LevelRow(map + r * w, level + r * w, width, t_low, t_high); });
-
-  // Hysteresis into b (f as scratch), then the row erosion into a.
+  rows([=](int r) { LevelRow(map + r * w, strong + r * nw, weak + r * nw, width, t_low, t_high); });
   rows([=](int r) {
-    HysteresisRow(r > 0 ? level + (r - 1) * w : nullptr, level + r * w,
-                  r + 1 < height ? level + (r + 1) * w : nullptr, f + r * w, b + r * w, width);
-    ErodeRow(b + r * w, a + r * w, width, h);
+    HysteresisErodeRow(r > 0 ? strong + (r - 1) * nw : nullptr, strong + r * nw,
+                       r + 1 < height ? strong + (r + 1) * nw : nullptr, weak + r * nw, a + r * nw,
+                       words, h);
   });
-
-  // Column erosion of a into b, then the row dilation into f.
-  rows([=](int r) {
-    if (r < h || r + h >= height) {
-      std::memset(b + r * w, 0, w);
-    } else {
-      CombineRows(a + (r - h) * w, w, 2 * h + 1, b + r * w, width, true);
-    }
-    DilateRow(b + r * w, f + r * w, width, h);
-  });
-
-  // Column dilation of f into a; a becomes the free mask.
-  rows([=](int r) {
-    const int d0 = std::max(0, r - h), d1 = std::min(height - 1, r + h);
-    CombineRows(f + d0 * w, w, d1 - d0 + 1, a + r * w, width, false);
-  });
-  free_.swap(pass_a_);
+  rows([=](int r) { ErodeColumnsDilateRow(a, words, r, height, h, valid_last, b + r * nw); });
+  rows([=](int r) { DilateColumnsRow(b, words, r, height, h, f + r * nw); });
 }
 
 }  // namespace freespace

@@ -9,24 +9,34 @@
 
 namespace freespace {
 
+namespace {
+
+FREESPACE_ROW_LOOP void FuseRow(const std::uint8_t* __restrict update, LogOdds* __restrict map,
+                                int width, LogOdds l_free, LogOdds l_occupied, LogOdds l_min,
+                                LogOdds l_max) {
+  for (int c = 0; c < width; ++c) {
+    const int delta =
+        update[c] == kUpdateFree ? l_free : (update[c] == kUpdateOccupied ? l_occupied : 0);
+    map[c] = LogOdds(std::clamp(int(map[c]) + delta, int(l_min), int(l_max)));
+  }
+}
+
+}  // namespace
+
 void HostBackend::Fuse(int row_begin, int row_end) {
   const int r0 = std::max(row_begin, 0);
   const int r1 = std::min(row_end, params_.height);
   if (r0 >= r1) return;
   const int width = params_.width;
-  const int l_free = params_.l_free, l_occ = params_.l_occupied;
-  const int l_min = params_.l_min, l_max = params_.l_max;
+  const KernelParams p = params_;
+  const std::uint8_t* update = update_.data();
+  LogOdds* map = map_.data();
   arena_.execute([&] {
     tbb::parallel_for(
-        tbb::blocked_range<int>(r0, r1, 16), [&](const tbb::blocked_range<int>& rows) {
+        tbb::blocked_range<int>(r0, r1, 16), [=](const tbb::blocked_range<int>& rows) {
           for (int r = rows.begin(); r != rows.end(); ++r) {
-            const std::uint8_t* u = update_.data() + std::size_t(r) * width;
-            LogOdds* m = map_.data() + std::size_t(r) * width;
-            for (int c = 0; c < width; ++c) {
-              const int delta =
-                  u[c] == kUpdateFree ? l_free : (u[c] == kUpdateOccupied ? l_occ : 0);
-              m[c] = LogOdds(std::clamp(int(m[c]) + delta, l_min, l_max));
-            }
+            const std::size_t at = std::size_t(r) * width;
+            FuseRow(update + at, map + at, width, p.l_free, p.l_occupied, p.l_min, p.l_max);
           }
         });
   });

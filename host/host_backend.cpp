@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <climits>
 #include <cstring>
+#include <string>
+
+#include "freespace/errors.hpp"
 
 namespace freespace {
 
@@ -14,19 +17,24 @@ HostBackend::HostBackend(const KernelParams& params, int threads)
       map_(cells(), 0),
       map_scratch_(cells(), 0),
       update_(cells(), kUpdateNone),
-      level_(cells(), 0),
-      pass_a_(cells(), 0),
-      pass_b_(cells(), 0),
-      free_(cells(), 0),
+      bits_strong_(std::size_t(params.height) * ((params.width + 63) / 64), 0),
+      bits_weak_(bits_strong_.size(), 0),
+      bits_a_(bits_strong_.size(), 0),
+      bits_b_(bits_strong_.size(), 0),
+      free_(std::size_t(params.height) * ((params.width + 63) / 64), 0),
       label_(cells(), INT32_MAX),
       stop_(BorderLabelCount(params.height, params.width), 0),
       delta_(cells(), 0) {
+  if (params.width < 1 || params.height < 1 || params.width > 8192 || params.height > 8192) {
+    throw BackendError("tbb backend: map of " + std::to_string(params.width) + " x " +
+                       std::to_string(params.height) + " cells; each side must be 1 .. 8192");
+  }
   arena_.initialize();
 }
 
 void HostBackend::Clear() {
   std::fill(map_.begin(), map_.end(), LogOdds{0});
-  std::fill(free_.begin(), free_.end(), std::uint8_t{0});
+  std::fill(free_.begin(), free_.end(), std::uint64_t{0});
 }
 
 void HostBackend::ReadLogOdds(LogOdds* dst) { std::memcpy(dst, map_.data(), cells() * 2); }
@@ -35,10 +43,25 @@ void HostBackend::ReadUpdateMask(std::uint8_t* dst) { std::memcpy(dst, update_.d
 void HostBackend::WriteUpdateMask(const std::uint8_t* src) {
   std::memcpy(update_.data(), src, cells());
 }
-void HostBackend::ReadFree(std::uint8_t* dst) { std::memcpy(dst, free_.data(), cells()); }
+void HostBackend::ReadFree(std::uint8_t* dst) {
+  const int width = params_.width, nw = words();
+  for (int r = 0; r < params_.height; ++r) {
+    for (int c = 0; c < width; ++c) {
+      dst[std::size_t(r) * width + c] = (free_[std::size_t(r) * nw + c / 64] >> (c % 64)) & 1;
+    }
+  }
+}
 void HostBackend::ReadRayDelta(std::int32_t* dst) {
   std::memcpy(dst, delta_.data(), cells() * sizeof(std::int32_t));
 }
-void HostBackend::WriteFree(const std::uint8_t* src) { std::memcpy(free_.data(), src, cells()); }
+void HostBackend::WriteFree(const std::uint8_t* src) {
+  const int width = params_.width, nw = words();
+  std::fill(free_.begin(), free_.end(), std::uint64_t{0});
+  for (int r = 0; r < params_.height; ++r) {
+    for (int c = 0; c < width; ++c) {
+      if (src[std::size_t(r) * width + c]) free_[std::size_t(r) * nw + c / 64] |= 1ull << (c % 64);
+    }
+  }
+}
 
 }  // namespace freespace

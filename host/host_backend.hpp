@@ -10,6 +10,14 @@
 
 #include "backend.hpp"
 
+// Row loops of the host stages are compiled for AVX-512, AVX2 and the baseline, picked at
+// load time for the CPU at hand. Integer arithmetic only, so every variant gives the same bits.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define FREESPACE_ROW_LOOP __attribute__((target_clones("arch=skylake-avx512", "avx2", "default")))
+#else
+#define FREESPACE_ROW_LOOP
+#endif
+
 namespace freespace {
 
 class HostBackend final : public Backend {
@@ -37,19 +45,18 @@ class HostBackend final : public Backend {
   void WriteFree(const std::uint8_t* src) override;
 
   const LogOdds* HostLogOdds() const override { return map_.data(); }
-  const std::uint8_t* HostFree() const override { return free_.data(); }
 
  private:
   std::size_t cells() const { return std::size_t(params_.width) * params_.height; }
+  int words() const { return (params_.width + 63) / 64; }  // bitset words per row
 
   tbb::task_arena arena_;
   std::vector<LogOdds> map_;
   std::vector<LogOdds> map_scratch_;  // the shift writes here, then swaps
   std::vector<std::uint8_t> update_;  // stage 1 -> stage 2
-  std::vector<std::uint8_t> level_;   // stage 3: bit 0 strong, bit 1 weak
-  std::vector<std::uint8_t> pass_a_;  // stage 3 intermediates
-  std::vector<std::uint8_t> pass_b_;
-  std::vector<std::uint8_t> free_;   // stage 3 output, stage 4 input
+  // Stage 3 bitsets, 64 cells a word, rows of (width + 63) / 64 words.
+  std::vector<std::uint64_t> bits_strong_, bits_weak_, bits_a_, bits_b_;
+  std::vector<std::uint64_t> free_;  // stage 3 output, stage 4 input: bitset rows
   std::vector<std::int32_t> label_;  // stage 4: smallest label stopping at a cell (T)
   std::vector<std::int32_t> stop_;   // stage 4: stop cell per label
   std::vector<std::int32_t> delta_;  // conventional model: per-cell sum of one scan's rays
@@ -70,9 +77,35 @@ void RasterizeRow(const std::int32_t* vertices, int vertex_count, int width, int
 void AccumulateRay(std::int32_t* delta, int width, int height, int x0, int y0, int x1, int y1,
                    int l_free, int l_occupied);
 
-// Stage 4: Bresenham from (x0, y0) to (x1, y1) over `free`; returns the first not-free cell
-// after the start, or the end cell, as row * width + col.
-std::int32_t CastRay(const std::uint8_t* free, int width, int x0, int y0, int x1, int y1);
+// Stage 4: Bresenham from (x0, y0) to (x1, y1); returns the first cell after the start for
+// which is_free(x, y) is false, or the end cell, as row * width + col.
+template <class IsFree>
+std::int32_t CastRay(const IsFree& is_free, int width, int x0, int y0, int x1, int y1) {
+  const int dx = x1 > x0 ? x1 - x0 : x0 - x1, sx = x0 < x1 ? 1 : -1;
+  const int dy = -(y1 > y0 ? y1 - y0 : y0 - y1), sy = y0 < y1 ? 1 : -1;
+  int err = dx + dy;
+  int x = x0, y = y0;
+  while (true) {
+    // The vehicle's own cell never stops a ray.
+    if ((x != x0 || y != y0) && !is_free(x, y)) break;
+    if (x == x1 && y == y1) break;
+    const int e2 = 2 * err;
+    if (e2 >= dy) {
+      err += dy;
+      x += sx;
+    }
+    if (e2 <= dx) {
+      err += dx;
+      y += sy;
+    }
+  }
+  return y * width + x;
+}
+
+// The same over a free mask of one byte per cell.
+inline std::int32_t CastRay(const std::uint8_t* free, int width, int x0, int y0, int x1, int y1) {
+  return CastRay([=](int x, int y) { return free[y * width + x] != 0; }, width, x0, y0, x1, y1);
+}
 
 // floor(a / b) for b > 0.
 inline std::int64_t FloorDiv(std::int64_t a, std::int64_t b) {

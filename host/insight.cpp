@@ -8,45 +8,27 @@
 #include <tbb/parallel_for.h>
 
 #include <climits>
-#include <cstdlib>
 
 #include "host_backend.hpp"
 
 namespace freespace {
 
-std::int32_t host::CastRay(const std::uint8_t* free, int width, int x0, int y0, int x1, int y1) {
-  const int dx = std::abs(x1 - x0), sx = x0 < x1 ? 1 : -1;
-  const int dy = -std::abs(y1 - y0), sy = y0 < y1 ? 1 : -1;
-  int err = dx + dy;
-  int x = x0, y = y0;
-  while (true) {
-    // The vehicle's own cell never stops a ray.
-    if ((x != x0 || y != y0) && !free[y * width + x]) break;
-    if (x == x1 && y == y1) break;
-    const int e2 = 2 * err;
-    if (e2 >= dy) {
-      err += dy;
-      x += sx;
-    }
-    if (e2 <= dx) {
-      err += dx;
-      y += sy;
-    }
-  }
-  return y * width + x;
-}
-
 void HostBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
   const int width = params_.width, height = params_.height;
   const int labels = BorderLabelCount(height, width);
-  const std::uint8_t* free = free_.data();
+  const std::uint64_t* free = free_.data();
+  const int nw = words();
+  const auto is_free = [free, nw](int x, int y) {
+    return (free[std::size_t(y) * nw + (x >> 6)] >> (x & 63)) & 1;
+  };
   std::int32_t* stop = stop_.data();
   arena_.execute([&] {
     tbb::parallel_for(
         tbb::blocked_range<int>(0, labels, 32), [&](const tbb::blocked_range<int>& range) {
           for (int l = range.begin(); l != range.end(); ++l) {
             const CellIndex target = BorderCell(l, height, width);
-            stop[l] = host::CastRay(free, width, vehicle.col, vehicle.row, target.col, target.row);
+            stop[l] =
+                host::CastRay(is_free, width, vehicle.col, vehicle.row, target.col, target.row);
           }
         });
   });

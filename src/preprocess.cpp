@@ -11,7 +11,11 @@ namespace {
 constexpr double kDegToRad = M_PI / 180.0;
 constexpr float kNone = std::numeric_limits<float>::infinity();
 
-std::int32_t ToFixed(double cells) { return std::int32_t(std::llround(cells * kFixedOne)); }
+// Round half away from zero (as llround), inline: it runs for every point of every scan.
+std::int32_t ToFixed(double cells) {
+  const double v = cells * kFixedOne;
+  return std::int32_t(v >= 0.0 ? v + 0.5 : v - 0.5);
+}
 
 std::int32_t FixedFloorCell(std::int32_t fixed) {
   return fixed >= 0 ? fixed / kFixedOne : -((-fixed + kFixedOne - 1) / kFixedOne);
@@ -36,7 +40,13 @@ Preprocessor::Preprocessor(const Config& config)
   kept_.reserve(expected);
   bin_has_beam_.resize(bins_);
   bin_range_.resize(bins_);
-  bin_angle_.resize(bins_);
+  bin_echo_.resize(bins_);
+  bin_cos_.resize(bins_);
+  bin_sin_.resize(bins_);
+  for (int b = 0; b < bins_; ++b) {
+    bin_cos_[b] = std::cos(min_angle_ + b * bin_width_);
+    bin_sin_[b] = std::sin(min_angle_ + b * bin_width_);
+  }
   beams_.reserve(bins_);
   vertices_.reserve(2 * (bins_ + 1));
   occupied_.reserve(expected);
@@ -64,7 +74,8 @@ bool Preprocessor::Run(const Scan& scan, ScanStats* stats) {
       ++stats->bad_layer;
       continue;
     }
-    const int bin = std::clamp(int(std::lround((a - min_angle_) / bin_width_)), 0, bins_ - 1);
+    // a >= min - half a bin here, so truncation is the floor.
+    const int bin = std::min(int((a - min_angle_) / bin_width_ + 0.5), bins_ - 1);
     bin_has_beam_[bin] = 1;
     if (!p.echo) {
       ++stats->no_echo;
@@ -79,7 +90,13 @@ bool Preprocessor::Run(const Scan& scan, ScanStats* stats) {
       ++stats->no_echo;
       continue;
     }
-    echoes_.push_back({float(r * std::cos(a)), float(r * std::sin(a)), float(r), float(a), bin});
+    // cos and sin from the bin centre's, rotated by the small offset d (|d| <= half a bin):
+    // Taylor terms to d^4 are exact to far below float precision.
+    const double d = a - (min_angle_ + bin * bin_width_), d2 = d * d;
+    const double cd = 1.0 - d2 * (0.5 - d2 / 24.0), sd = d * (1.0 - d2 / 6.0);
+    const double ca = bin_cos_[bin] * cd - bin_sin_[bin] * sd;
+    const double sa = bin_sin_[bin] * cd + bin_cos_[bin] * sd;
+    echoes_.push_back({float(r * ca), float(r * sa), float(r), float(a), bin});
   }
   stats->echoes = int(echoes_.size());
 
@@ -91,7 +108,7 @@ bool Preprocessor::Run(const Scan& scan, ScanStats* stats) {
     kept_.push_back(e);
     if (e.range < bin_range_[e.bin]) {
       bin_range_[e.bin] = e.range;
-      bin_angle_[e.bin] = e.angle;
+      bin_echo_[e.bin] = int(kept_.size()) - 1;
     }
   }
   stats->kept = int(kept_.size());
@@ -100,9 +117,12 @@ bool Preprocessor::Run(const Scan& scan, ScanStats* stats) {
   beams_.clear();
   for (int b = 0; b < bins_; ++b) {
     if (!bin_has_beam_[b]) continue;
-    const bool real = bin_range_[b] != kNone;
-    beams_.push_back({real ? bin_angle_[b] : float(min_angle_ + b * bin_width_),
-                      real ? bin_range_[b] : kNone, !real});
+    if (bin_range_[b] != kNone) {
+      const EchoPoint& e = kept_[bin_echo_[b]];
+      beams_.push_back({e.angle, e.range, e.x, e.y, false});
+    } else {
+      beams_.push_back({float(min_angle_ + b * bin_width_), kNone, 0.0f, 0.0f, true});
+    }
   }
   stats->beams = int(beams_.size());
   if (kept_.empty()) {
@@ -125,6 +145,9 @@ bool Preprocessor::Run(const Scan& scan, ScanStats* stats) {
       next = it->range;
     } else {
       it->range = std::min(it->range, next);
+      const int b = int(std::lround((it->angle - min_angle_) / bin_width_));
+      it->x = float(it->range * bin_cos_[b]);
+      it->y = float(it->range * bin_sin_[b]);
       ++stats->virtual_points;
     }
   }
@@ -140,9 +163,8 @@ void Preprocessor::Project(const Vec2& sensor_cells, double yaw, int width, int 
   vertices_.push_back(oy);
   std::int32_t ymin = oy, ymax = oy;
   for (const Beam& b : beams_) {
-    const double bx = b.range * std::cos(double(b.angle)), by = b.range * std::sin(double(b.angle));
-    const std::int32_t vx = ToFixed(sensor_cells.x() + (c * bx - s * by) * k);
-    const std::int32_t vy = ToFixed(sensor_cells.y() + (s * bx + c * by) * k);
+    const std::int32_t vx = ToFixed(sensor_cells.x() + (c * b.x - s * b.y) * k);
+    const std::int32_t vy = ToFixed(sensor_cells.y() + (s * b.x + c * b.y) * k);
     vertices_.push_back(vx);
     vertices_.push_back(vy);
     ymin = std::min(ymin, vy);

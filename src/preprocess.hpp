@@ -19,6 +19,8 @@ namespace freespace {
 struct Beam {
   float angle = 0.0f;  // radians, sensor frame
   float range = 0.0f;  // metres
+  float x = 0.0f;      // the vertex in the sensor frame, metres
+  float y = 0.0f;
   bool is_virtual = false;
 };
 
@@ -55,8 +57,10 @@ class Preprocessor {
   std::vector<std::uint8_t> keep_;
   std::vector<EchoPoint> kept_;
   std::vector<std::uint8_t> bin_has_beam_;
-  std::vector<float> bin_range_;  // nearest kept echo, +inf when none
-  std::vector<float> bin_angle_;
+  std::vector<float> bin_range_;        // nearest kept echo, +inf when none
+  std::vector<std::int32_t> bin_echo_;  // index into kept_ of the nearest echo
+  std::vector<double> bin_cos_;         // cos and sin of each bin's centre angle
+  std::vector<double> bin_sin_;
   std::vector<Beam> beams_;
   std::vector<std::int32_t> vertices_;
   std::vector<std::int32_t> occupied_;
