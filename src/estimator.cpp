@@ -36,6 +36,10 @@ Estimator::Estimator(const Config& config) : config_(config) {
   backend_ = CreateBackend(config_);
   preprocess_ = std::make_unique<Preprocessor>(config_);
   aligner_ = std::make_unique<CircleAligner>(config_);
+  if (config_.alignment.kind == AlignmentKind::kRotate) {
+    warper_ = std::make_unique<MapWarper>(config_);
+    warp_buffer_.resize(std::size_t(config_.map.width_cells) * config_.map.height_cells);
+  }
   const int labels = BorderLabelCount(config_.map.height_cells, config_.map.width_cells);
   simplifier_ = std::make_unique<PolygonSimplifier>(
       config_.polygon.max_vertices, config_.polygon.epsilon_m / config_.map.resolution_m);
@@ -105,7 +109,8 @@ const Result& Estimator::Process(const Scan& scan) {
   const Clock::time_point t_pre = Clock::now();
   r.times.preprocess_us = Micros(t_begin, t_pre);
 
-  // Align: vehicle on a circle, then the integer shift of the map.
+  // Align: vehicle on a circle, then the integer shift of the map (or, for the baseline
+  // alignment, the rotation and sub-pixel shift of a vehicle-centred map).
   const double previous_t = aligner_->last_timestamp();
   const AlignStep step = aligner_->Align(scan.timestamp_s, r.sensor_pose);
   if (!step.accepted) {
@@ -123,24 +128,46 @@ const Result& Estimator::Process(const Scan& scan) {
     }
     return reject(step.reason);
   }
+  const Pose2D previous_sensor = last_sensor_;
   last_sensor_ = r.sensor_pose;
+  const int width = config_.map.width_cells, height = config_.map.height_cells;
+  const double res = config_.map.resolution_m;
+  Vec2 local = step.local;  // the sensor in the map, cells
+  double local_yaw = step.yaw;
   if (step.reset) {
     backend_->Clear();
     r.map_reset = true;
+  } else if (warper_ == nullptr) {
+    backend_->Shift(step.shift_x, step.shift_y);  // eqs. (4), (5)
   } else {
-    backend_->Shift(step.shift_x, step.shift_y);
+    backend_->ReadLogOdds(warp_buffer_.data());
+    warper_->Warp(previous_sensor, r.sensor_pose, warp_buffer_.data());
+    backend_->WriteLogOdds(warp_buffer_.data());
   }
-  r.vehicle_cells = step.local;
-  r.yaw = step.yaw;
   r.filtered_speed_mps = step.filtered_speed_mps;
-  r.circle_radius_m = step.radius_m;
-  r.circle_centre_cells = step.circle_centre;
-  r.origin = aligner_->origin_world();
-  r.origin_cell_x = aligner_->origin_x();
-  r.origin_cell_y = aligner_->origin_y();
-  const int width = config_.map.width_cells, height = config_.map.height_cells;
-  r.vehicle_cell = {std::clamp(int(std::floor(step.local.y())), 0, height - 1),
-                    std::clamp(int(std::floor(step.local.x())), 0, width - 1)};
+  if (warper_ == nullptr) {
+    r.circle_radius_m = step.radius_m;
+    r.circle_centre_cells = step.circle_centre;
+    r.origin = aligner_->origin_world();
+    r.origin_cell_x = aligner_->origin_x();
+    r.origin_cell_y = aligner_->origin_y();
+    r.map_yaw = 0.0;
+  } else {
+    // Vehicle-centred and turning with the vehicle: the sensor at the centre facing +x.
+    local = warper_->centre();
+    local_yaw = 0.0;
+    r.circle_radius_m = 0.0;
+    r.circle_centre_cells = local;
+    r.map_yaw = r.sensor_pose.yaw;
+    const double c = std::cos(r.map_yaw), s_yaw = std::sin(r.map_yaw);
+    r.origin = Vec2(r.sensor_pose.x, r.sensor_pose.y) -
+               Vec2(c * local.x() - s_yaw * local.y(), s_yaw * local.x() + c * local.y()) * res;
+    r.origin_cell_x = r.origin_cell_y = 0;
+  }
+  r.vehicle_cells = local;
+  r.yaw = local_yaw;
+  r.vehicle_cell = {std::clamp(int(std::floor(local.y())), 0, height - 1),
+                    std::clamp(int(std::floor(local.x())), 0, width - 1)};
   const Clock::time_point t_align = Clock::now();
   r.times.align_us = Micros(t_pre, t_align);
 
@@ -148,7 +175,7 @@ const Result& Estimator::Process(const Scan& scan) {
   Clock::time_point t_fuse = t_align;
   if (has_update && config_.sensor_model.kind == SensorModelKind::kEnhanced) {
     RasterJob job;
-    preprocess_->Project(step.local, step.yaw, width, height, &job);
+    preprocess_->Project(local, local_yaw, width, height, &job);
     backend_->Rasterize(job);
     const Clock::time_point t_raster = Clock::now();
     r.times.rasterize_us = Micros(t_align, t_raster);
@@ -158,7 +185,7 @@ const Result& Estimator::Process(const Scan& scan) {
   } else if (has_update) {
     // The paper's baseline: one ray per kept echo, no virtual points.
     RayJob job;
-    preprocess_->ProjectRays(step.local, step.yaw, width, height, &job);
+    preprocess_->ProjectRays(local, local_yaw, width, height, &job);
     backend_->CastRays(job);
     const Clock::time_point t_raster = Clock::now();
     r.times.rasterize_us = Micros(t_align, t_raster);
@@ -182,14 +209,15 @@ const Result& Estimator::Process(const Scan& scan) {
   // Polygon: C_Edge cell centres, capped Douglas-Peucker, world coordinates.
   ring_.clear();
   for (const CellIndex& c : r.edge_cells) ring_.emplace_back(c.col + 0.5, c.row + 0.5);
-  const double error_cells = simplifier_->Simplify(ring_, step.local, &kept_);
-  const double res = config_.map.resolution_m;
+  const double error_cells = simplifier_->Simplify(ring_, local, &kept_);
+  const double mc = std::cos(r.map_yaw), ms = std::sin(r.map_yaw);
   for (const int i : kept_) {
-    r.polygon_cells.push_back(ring_[i]);
-    r.polygon.push_back(r.origin + ring_[i] * res);
+    const Vec2& v = ring_[i];
+    r.polygon_cells.push_back(v);
+    r.polygon.push_back(r.origin + Vec2(mc * v.x() - ms * v.y(), ms * v.x() + mc * v.y()) * res);
   }
   r.simplification_error_m = error_cells * res;
-  r.polygon_contains_vehicle = PointInPolygon(r.polygon_cells, step.local);
+  r.polygon_contains_vehicle = PointInPolygon(r.polygon_cells, local);
   const Clock::time_point t_end = Clock::now();
   r.times.polygon_us = Micros(t_insight, t_end);
   backend_->KernelTimes(&r.times);
@@ -202,16 +230,19 @@ MapView Estimator::map() const {
   v.width = config_.map.width_cells;
   v.height = config_.map.height_cells;
   v.resolution_m = config_.map.resolution_m;
-  v.origin = aligner_->origin_world();
+  v.origin = result_.origin;
+  v.map_yaw = result_.map_yaw;
+  const std::size_t cells = std::size_t(v.width) * v.height;
   v.log_odds = backend_->HostLogOdds();
-  v.free = backend_->HostFree();
-  if (v.log_odds == nullptr || v.free == nullptr) {
-    const std::size_t cells = std::size_t(v.width) * v.height;
+  if (v.log_odds == nullptr) {
     map_mirror_.resize(cells);
-    free_mirror_.resize(cells);
     backend_->ReadLogOdds(map_mirror_.data());
-    backend_->ReadFree(free_mirror_.data());
     v.log_odds = map_mirror_.data();
+  }
+  v.free = backend_->HostFree();
+  if (v.free == nullptr) {
+    free_mirror_.resize(cells);
+    backend_->ReadFree(free_mirror_.data());
     v.free = free_mirror_.data();
   }
   return v;

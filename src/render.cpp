@@ -30,8 +30,10 @@ cv::Mat RenderSnapshot(const MapView& map, const Result& result, const SnapshotO
     return cv::Point(int(std::lround(cells.x() * scale)),
                      int(std::lround((map.height - cells.y()) * scale)));
   };
+  const double c = std::cos(map.map_yaw), s = std::sin(map.map_yaw);
   const auto world_pixel = [&](const Vec2& world) {
-    return pixel((world - map.origin) / map.resolution_m);
+    const Vec2 d = (world - map.origin) / map.resolution_m;
+    return pixel(Vec2(c * d.x() + s * d.y(), -s * d.x() + c * d.y()));
   };
 
   if (overlay.truth != nullptr) {

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "host_backend.hpp"
+#include "polygon.hpp"
 #include "test_util.hpp"
 
 namespace freespace {
@@ -157,6 +158,61 @@ TEST(Alignment, RejectsBackwardsTimeAndPoseJumpsThenRestarts) {
   EXPECT_TRUE(restart.accepted);
   EXPECT_TRUE(restart.reset);
   EXPECT_TRUE(a.Align(1.28, {501.2, 0, 0}).accepted);
+}
+
+}  // namespace
+}  // namespace freespace
+
+namespace freespace {
+namespace {
+
+// The baseline alignment: a vehicle-centred map resampled by the vehicle's motion.
+TEST(MapWarper, WholeCellMotionIsAnExactShiftAndTurnsMoveTheWorld) {
+  Config c;
+  c.map.width_cells = 101;
+  c.map.height_cells = 81;
+  MapWarper warper(c);
+  std::vector<LogOdds> map(101 * 81, 0);
+  // A mark 5 m (25 cells) ahead of the vehicle at the centre (50.5, 40.5).
+  const int row = 40, col = 75;
+  map[row * 101 + col] = 500;
+  // Driving 1 m forward along +x: the mark comes 5 cells closer, exactly.
+  std::vector<LogOdds> moved = map;
+  warper.Warp({10, 20, 0}, {11, 20, 0}, moved.data());
+  EXPECT_EQ(moved[row * 101 + col - 5], 500);
+  EXPECT_EQ(std::count(moved.begin(), moved.end(), 0), long(moved.size()) - 1);
+  // Turning left by 90 degrees on the spot: the mark ends up to the vehicle's right.
+  std::vector<LogOdds> turned = map;
+  warper.Warp({10, 20, 0}, {10, 20, M_PI / 2}, turned.data());
+  EXPECT_NEAR(turned[(row - 25) * 101 + 50], 500, 1);
+  // A turn by a fraction of a degree blurs the mark over several cells (the paper's point).
+  std::vector<LogOdds> blurred = map;
+  warper.Warp({10, 20, 0}, {10.03, 20.02, 0.013}, blurred.data());
+  EXPECT_GT(std::count_if(blurred.begin(), blurred.end(), [](LogOdds l) { return l != 0; }), 1);
+  EXPECT_LT(*std::max_element(blurred.begin(), blurred.end()), 500);
+}
+
+TEST(Alignment, RotateBaselineKeepsPolygonsAroundTheVehicleInWorldCoordinates) {
+  FREESPACE_REQUIRE_DATA("carmen/intel-corrected.log", path);
+  auto reader = OpenLog(path);
+  Config c;
+  c.sensor = reader->sensor();
+  c.classify.vehicle_width_m = 0.4;
+  c.alignment.kind = AlignmentKind::kRotate;
+  Estimator estimator(c);
+  Scan scan;
+  int checked = 0;
+  while (reader->Next(&scan) && checked < 300) {
+    const Result& r = estimator.Process(scan);
+    if (r.status == ScanStatus::kRejected) continue;
+    ++checked;
+    EXPECT_EQ(r.vehicle_cells, Vec2(150, 150));
+    EXPECT_DOUBLE_EQ(r.map_yaw, r.sensor_pose.yaw);
+    ASSERT_GE(r.polygon.size(), 3u);
+    EXPECT_TRUE(PointInPolygon(r.polygon, Vec2(r.sensor_pose.x, r.sensor_pose.y)))
+        << "scan " << r.scan_index;
+  }
+  EXPECT_EQ(checked, 300);
 }
 
 }  // namespace

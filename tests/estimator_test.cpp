@@ -98,6 +98,22 @@ TEST_P(EstimatorTest, NoEchoGapIsClosedByVirtualPointsAndNeverOccupied) {
   EXPECT_EQ(at(2.1, 1.5), p.l_occupied);
 }
 
+TEST_P(EstimatorTest, ConventionalModelUpdatesCellsAsOftenAsRaysCrossThem) {
+  Config c = WallConfig();
+  c.sensor_model.kind = SensorModelKind::kConventional;
+  FREESPACE_ESTIMATOR_OR_SKIP(estimator, c);
+  estimator->Process(WallScan(0.0, -5, 5));
+  const MapView map = estimator->map();
+  const KernelParams p = MakeKernelParams(c);
+  auto at = [&](double x, double y) {
+    return map.log_odds[int(std::floor(20 + y / 0.2)) * 40 + int(std::floor(20 + x / 0.2))];
+  };
+  EXPECT_LT(at(0.3, 0.1), 2 * p.l_free);  // near the sensor many rays cross one cell
+  EXPECT_EQ(at(1.5, 1.5), p.l_free);      // far out, one ray
+  EXPECT_GT(at(2.1, 1.5), p.l_occupied);  // beams 1 deg apart: several end in one cell
+  EXPECT_EQ(at(1.5, 0.1), 0);             // no virtual points: the no-echo gap stays unknown
+}
+
 TEST_P(EstimatorTest, EmptyAndDarkScansAlignButDoNotUpdate) {
   FREESPACE_ESTIMATOR_OR_SKIP(estimator, WallConfig());
   estimator->Process(WallScan(0.0));

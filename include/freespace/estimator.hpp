@@ -63,10 +63,12 @@ struct Result {
   std::string message;     // why a scan was rejected or not used; empty when kOk
   bool map_reset = false;  // the map was (re)started at this scan (first scan, or a jump)
 
-  Pose2D pose;         // the vehicle pose given with the scan
-  Pose2D sensor_pose;  // the sensor's world pose (pose composed with the mount)
-  Vec2 vehicle_cells;  // sensor position in the map, cells, fractional (eqs. 6, 7)
-  double yaw = 0.0;    // sensor yaw in the map (eq. 2), radians
+  Pose2D pose;           // the vehicle pose given with the scan
+  Pose2D sensor_pose;    // the sensor's world pose (pose composed with the mount)
+  Vec2 vehicle_cells;    // sensor position in the map, cells, fractional (eqs. 6, 7)
+  double yaw = 0.0;      // sensor yaw in the map (eq. 2), radians
+  double map_yaw = 0.0;  // rotation of the map's axes from the world's: 0 with the circle
+                         // alignment, the sensor's yaw with alignment.kind rotate
   CellIndex vehicle_cell;
   Vec2 origin;                     // world position (m) of the corner of cell (0, 0)
   std::int64_t origin_cell_x = 0;  // origin in whole cells from the map's anchor
@@ -89,12 +91,13 @@ struct Result {
 };
 
 // A read-only view of the map as of the last Process(). Pointers stay valid until the next
-// call to Process() or Reset(); row-major, row 0 southern, index = row * width + col.
+// call to Process(), Reset() or map(); row-major, row 0 southern, index = row * width + col.
 struct MapView {
   int width = 0;
   int height = 0;
   double resolution_m = 0.0;
   Vec2 origin;                         // world position of the corner of cell (0, 0)
+  double map_yaw = 0.0;                // rotation of the map's axes (0 but for alignment rotate)
   const LogOdds* log_odds = nullptr;   // fused log-odds (kLogOddsScale units)
   const std::uint8_t* free = nullptr;  // 1 where classified free after opening, else 0
 
@@ -104,6 +107,7 @@ struct MapView {
 class Backend;
 class Preprocessor;
 class CircleAligner;
+class MapWarper;
 class PolygonSimplifier;
 
 class Estimator {
@@ -134,6 +138,8 @@ class Estimator {
   std::unique_ptr<Backend> backend_;
   std::unique_ptr<Preprocessor> preprocess_;
   std::unique_ptr<CircleAligner> aligner_;
+  std::unique_ptr<MapWarper> warper_;  // alignment.kind rotate only
+  std::vector<LogOdds> warp_buffer_;
   std::unique_ptr<PolygonSimplifier> simplifier_;
   Result result_;
   std::uint64_t scans_ = 0;
