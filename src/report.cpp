@@ -35,15 +35,38 @@ nlohmann::json StageSeries::Summary() const {
       {"polygon", &polygon_},       {"total", &total_}};
   for (const auto& [name, series] : stages) {
     std::vector<double> v = *series;
-    const double median = Quantile(v, 0.5), p99 = Quantile(v, 0.99);
+    const double median = freespace::Quantile(v, 0.5), p99 = freespace::Quantile(v, 0.99);
     out[name] = {{"median", std::round(median * 100) / 100}, {"p99", std::round(p99 * 100) / 100}};
   }
   return out;
 }
 
+const std::vector<double>* StageSeries::Stage(const std::string& name) const {
+  if (name == "preprocess") return &preprocess_;
+  if (name == "align") return &align_;
+  if (name == "rasterize") return &rasterize_;
+  if (name == "fuse") return &fuse_;
+  if (name == "classify") return &classify_;
+  if (name == "insight") return &insight_;
+  if (name == "polygon") return &polygon_;
+  return &total_;
+}
+
+double StageSeries::Quantile(const std::string& stage, double q) const {
+  std::vector<double> v = *Stage(stage);
+  return freespace::Quantile(v, q);
+}
+
+double StageSeries::Mean(const std::string& stage) const {
+  const std::vector<double>& v = *Stage(stage);
+  double sum = 0.0;
+  for (const double x : v) sum += x;
+  return v.empty() ? 0.0 : sum / double(v.size());
+}
+
 double StageSeries::MedianTotal() const {
   std::vector<double> v = total_;
-  return Quantile(v, 0.5);
+  return freespace::Quantile(v, 0.5);
 }
 
 std::string PolygonJsonLine(std::uint64_t scan, const Result& r) {

@@ -15,12 +15,19 @@ double Quantile(std::vector<double>& values, double q);
 
 // Per-stage times of many scans.
 class StageSeries {
+ private:
+  const std::vector<double>* Stage(const std::string& name) const;
+
+ public:
  public:
   void Add(const StageTimes& t);
   std::size_t size() const { return total_.size(); }
   // {"preprocess": {"median": .., "p99": ..}, ..., "total": {...}} in microseconds.
   nlohmann::json Summary() const;
   double MedianTotal() const;
+  // The q-quantile of one stage by name ("preprocess", ..., "total"), microseconds.
+  double Quantile(const std::string& stage, double q) const;
+  double Mean(const std::string& stage) const;
 
  private:
   std::vector<double> preprocess_, align_, rasterize_, fuse_, classify_, insight_, polygon_, total_;

@@ -22,6 +22,7 @@ struct Command {
 };
 
 Command AddRunCommand(CLI::App& app);
+Command AddBenchCommand(CLI::App& app);
 
 // Options every engine-running command shares.
 struct EngineOptions {

@@ -62,6 +62,7 @@ int main(int argc, char** argv) {
 
   std::vector<freespace::cli::Command> commands;
   commands.push_back(freespace::cli::AddRunCommand(app));
+  commands.push_back(freespace::cli::AddBenchCommand(app));
 
   try {
     app.parse(argc, argv);
