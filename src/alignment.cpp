@@ -24,7 +24,8 @@ CircleAligner::CircleAligner(const Config& config)
       centre_(0.5 * config.map.width_cells, 0.5 * config.map.height_cells),
       max_radius_cells_(0.5 * std::min(config.map.width_cells, config.map.height_cells) -
                         config.alignment.margin_m / config.map.resolution_m - 1.0),
-      speeds_(config.alignment.speed_window, 0.0) {
+      distances_(config.alignment.speed_window, 0.0),
+      intervals_(config.alignment.speed_window, 0.0) {
   max_radius_cells_ = std::max(0.0, max_radius_cells_);
 }
 
@@ -44,7 +45,8 @@ void CircleAligner::Start(double t, const Pose2D& sensor, AlignStep* step) {
   last_ = sensor;
   anchor_ = Vec2(sensor.x, sensor.y) - centre_ * resolution_;
   origin_x_ = origin_y_ = 0;
-  std::fill(speeds_.begin(), speeds_.end(), 0.0);
+  std::fill(distances_.begin(), distances_.end(), 0.0);
+  std::fill(intervals_.begin(), intervals_.end(), 0.0);
   speed_count_ = speed_next_ = 0;
   jumps_ = 0;
   step->accepted = true;
@@ -62,13 +64,14 @@ AlignStep CircleAligner::Align(double t, const Pose2D& sensor) {
     return step;
   }
   const double dt = t - last_t_;
-  if (!(dt > 0.0)) {
+  const bool jitter = !(dt > 0.0);
+  if (jitter && !(-dt <= config_.time_jitter_s)) {
     step.reason = RejectReason::kTimestampNotIncreasing;
     return step;
   }
   const Vec2 d(sensor.x - last_.x, sensor.y - last_.y);
   const double distance = d.norm();
-  if (!(distance <= config_.max_speed_mps * dt + config_.jump_slack_m)) {
+  if (!(distance <= config_.max_speed_mps * std::max(dt, 0.0) + config_.jump_slack_m)) {
     if (++jumps_ < config_.reset_after_jumps) {
       step.reason = RejectReason::kPoseJump;
       return step;
@@ -79,15 +82,24 @@ AlignStep CircleAligner::Align(double t, const Pose2D& sensor) {
   }
   jumps_ = 0;
 
-  // S_t: signed by the displacement against the previous heading (reversing is negative).
+  // S_t: the displacement, negative against the previous heading (reversing), over dt.
+  // Eq. (1) with a_k = dt_k / sum(dt): the window's signed distance over its time. At a
+  // constant scan rate that is the paper's a_k = 1 / n; with a jittery clock (scans stamped a
+  // millisecond apart) it stays the true speed where a plain mean of samples would not. A
+  // scan with clock jitter adds its displacement but no time.
   const double forward = d.x() * std::cos(last_.yaw) + d.y() * std::sin(last_.yaw);
-  const double speed = (forward < 0.0 ? -distance : distance) / dt;
-  speeds_[speed_next_] = speed;
-  speed_next_ = (speed_next_ + 1) % int(speeds_.size());
-  speed_count_ = std::min(speed_count_ + 1, int(speeds_.size()));
-  double sum = 0.0;
-  for (int i = 0; i < speed_count_; ++i) sum += speeds_[i];
-  const double filtered = sum / speed_count_;  // eq. (1) with a_k = 1 / n
+  const double signed_distance = forward < 0.0 ? -distance : distance;
+  const double speed = jitter ? 0.0 : signed_distance / dt;
+  distances_[speed_next_] = signed_distance;
+  intervals_[speed_next_] = jitter ? 0.0 : dt;
+  speed_next_ = (speed_next_ + 1) % int(distances_.size());
+  speed_count_ = std::min(speed_count_ + 1, int(distances_.size()));
+  double window_distance = 0.0, window_time = 0.0;
+  for (int i = 0; i < speed_count_; ++i) {
+    window_distance += distances_[i];
+    window_time += intervals_[i];
+  }
+  const double filtered = window_time > 0.0 ? window_distance / window_time : 0.0;
 
   // P_c: on the circle, heading along the radius; behind the centre when moving forward.
   const double yaw = WrapAngle(sensor.yaw);  // eq. (2)
@@ -102,8 +114,9 @@ AlignStep CircleAligner::Align(double t, const Pose2D& sensor) {
   const double kx = std::floor(shift.x()), ky = std::floor(shift.y());
   origin_x_ += std::int64_t(kx);
   origin_y_ += std::int64_t(ky);
-  last_t_ = t;
+  last_t_ = std::max(last_t_, t);  // the clock of accepted scans never runs backwards
   last_ = sensor;
+  step.timestamp_jitter = jitter;
 
   step.accepted = true;
   step.shift_x = int(std::clamp(kx, -1e9, 1e9));

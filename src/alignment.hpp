@@ -27,8 +27,10 @@ struct AlignStep {
   double speed_mps = 0.0;           // S_t, negative when reversing
   double filtered_speed_mps = 0.0;  // eq. (1)
   double radius_m = 0.0;
-  Vec2 circle_centre;  // cells
-  Vec2 circle_point;   // P_c, cells
+  Vec2 circle_centre;             // cells
+  Vec2 circle_point;              // P_c, cells
+  bool timestamp_jitter = false;  // the timestamp was not after the previous one, but within
+                                  // alignment.time_jitter_s: used without a speed sample
 };
 
 class CircleAligner {
@@ -64,7 +66,8 @@ class CircleAligner {
   Vec2 anchor_;  // world position of the origin when origin_x_ = origin_y_ = 0
   std::int64_t origin_x_ = 0;
   std::int64_t origin_y_ = 0;
-  std::vector<double> speeds_;  // ring buffer of eq. (1)
+  std::vector<double> distances_;  // ring buffers of eq. (1): signed displacement and dt
+  std::vector<double> intervals_;
   int speed_count_ = 0;
   int speed_next_ = 0;
   int jumps_ = 0;

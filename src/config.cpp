@@ -76,6 +76,7 @@ void VisitFields(Config& c, Visitor&& v) {
   v("max_speed_mps", c.alignment.max_speed_mps);
   v("jump_slack_m", c.alignment.jump_slack_m);
   v("reset_after_jumps", c.alignment.reset_after_jumps);
+  v("time_jitter_s", c.alignment.time_jitter_s);
   v.Section("classify");
   v("t_low", c.classify.t_low);
   v("t_high", c.classify.t_high);
@@ -287,6 +288,8 @@ void Config::Validate() const {
         a.jump_slack_m, "must be >= 0");
   Check(a.reset_after_jumps >= 1, "alignment.reset_after_jumps", a.reset_after_jumps,
         "must be >= 1");
+  Check(std::isfinite(a.time_jitter_s) && a.time_jitter_s >= 0, "alignment.time_jitter_s",
+        a.time_jitter_s, "must be >= 0");
 
   const ClassifyConfig& t = c.classify;
   Check(t.t_low > 0 && t.t_low < 0.5, "classify.t_low", t.t_low, "must be in (0, 0.5)");

@@ -70,6 +70,7 @@ const Result& Estimator::Process(const Scan& scan) {
   r.reject_reason = RejectReason::kNone;
   r.message.clear();
   r.map_reset = false;
+  r.timestamp_jitter = false;
   r.pose = scan.pose;
   r.times = StageTimes{};
   r.stats = ScanStats{};
@@ -115,8 +116,11 @@ const Result& Estimator::Process(const Scan& scan) {
   const AlignStep step = aligner_->Align(scan.timestamp_s, r.sensor_pose);
   if (!step.accepted) {
     if (step.reason == RejectReason::kTimestampNotIncreasing) {
-      std::snprintf(text, sizeof text, "timestamp %.6f s is not after the previous scan's %.6f s",
-                    scan.timestamp_s, previous_t);
+      std::snprintf(text, sizeof text,
+                    "timestamp %.6f s is %.3f s before the previous scan's %.6f s (more than "
+                    "alignment.time_jitter_s %.3f s)",
+                    scan.timestamp_s, previous_t - scan.timestamp_s, previous_t,
+                    config_.alignment.time_jitter_s);
     } else {
       std::snprintf(text, sizeof text,
                     "pose jumped %.1f m in %.3f s (limit %.0f m/s + %.1f m); jump %d of %d "
@@ -127,6 +131,14 @@ const Result& Estimator::Process(const Scan& scan) {
                     config_.alignment.reset_after_jumps);
     }
     return reject(step.reason);
+  }
+  if (step.timestamp_jitter) {
+    r.timestamp_jitter = true;
+    std::snprintf(text, sizeof text,
+                  "timestamp %.6f s is not after the previous scan's %.6f s: clock jitter, used "
+                  "without a speed sample",
+                  scan.timestamp_s, previous_t);
+    r.message.assign(text);
   }
   const Pose2D previous_sensor = last_sensor_;
   last_sensor_ = r.sensor_pose;

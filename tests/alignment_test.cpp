@@ -123,6 +123,22 @@ TEST(Alignment, RadiusFollowsSpeedAndReversingPutsMoreMapBehind) {
   }
 }
 
+TEST(Alignment, FilteredSpeedSurvivesAJitteryClock) {
+  // True speed 5 m/s at 25 Hz, but the clock stamps scans alternately 1 ms and 79 ms apart.
+  Config config = CircleConfig();
+  config.alignment.speed_window = 10;
+  CircleAligner a(config);
+  double t = 0.0, x = 0.0;
+  a.Align(t, {x, 0, 0});
+  AlignStep s;
+  for (int k = 1; k <= 40; ++k) {
+    t += (k % 2) ? 0.001 : 0.079;
+    x += 5.0 * 0.04;
+    s = a.Align(t, {x, 0, 0});
+  }
+  EXPECT_NEAR(s.filtered_speed_mps, 5.0, 1e-9);
+}
+
 TEST(Alignment, YawWrapsPastPiWithoutAJump) {
   CircleAligner a(CircleConfig());
   Pose2D pose{0, 0, 3.0};
@@ -143,16 +159,24 @@ TEST(Alignment, YawWrapsPastPiWithoutAJump) {
 TEST(Alignment, RejectsBackwardsTimeAndPoseJumpsThenRestarts) {
   Config config = CircleConfig();
   config.alignment.reset_after_jumps = 3;
+  config.alignment.time_jitter_s = 0.1;
   CircleAligner a(config);
   ASSERT_TRUE(a.Align(1.0, {0, 0, 0}).accepted);
   ASSERT_TRUE(a.Align(1.04, {0.4, 0, 0}).accepted);
   const Vec2 origin = a.origin_world();
-  EXPECT_EQ(a.Align(1.04, {0.8, 0, 0}).reason, RejectReason::kTimestampNotIncreasing);
   EXPECT_EQ(a.Align(0.5, {0.8, 0, 0}).reason, RejectReason::kTimestampNotIncreasing);
+  EXPECT_EQ(a.Align(0.9, {0.8, 0, 0}).reason, RejectReason::kTimestampNotIncreasing);
   EXPECT_EQ(a.Align(1.08, {300.0, 0, 0}).reason, RejectReason::kPoseJump);
   EXPECT_EQ(a.origin_world(), origin);
   // Back on track: accepted, and the jump counter clears.
   EXPECT_TRUE(a.Align(1.12, {0.8, 0, 0}).accepted);
+  // Clock jitter: a timestamp slightly before the last is used, without a speed sample.
+  const AlignStep jitter = a.Align(1.10, {0.84, 0, 0});
+  EXPECT_TRUE(jitter.accepted);
+  EXPECT_TRUE(jitter.timestamp_jitter);
+  EXPECT_DOUBLE_EQ(jitter.speed_mps, 0.0);
+  EXPECT_EQ(a.last_timestamp(), 1.12);
+  EXPECT_EQ(a.Align(1.12, {0.86, 0, 0}).timestamp_jitter, true);  // equal times: jitter too
   EXPECT_EQ(a.Align(1.16, {500.0, 0, 0}).reason, RejectReason::kPoseJump);
   EXPECT_EQ(a.Align(1.20, {500.4, 0, 0}).reason, RejectReason::kPoseJump);
   const AlignStep restart = a.Align(1.24, {500.8, 0, 0});  // third jump in a row: restart

@@ -15,16 +15,23 @@ if [ ! -f "$log" ]; then
   exit 0
 fi
 
-# A real log: every accepted scan has a line, the 4 backwards timestamps are skipped.
+# A real log: every scan has a line; its 4 backwards timestamps are clock jitter, reported.
 "$bin" run --log "$log" --out "$out/intel" --snapshot-every 300 --quiet 2>"$out/intel.err" \
   || fail "run on intel-corrected.log failed: $(cat "$out/intel.err")"
-[ "$(wc -l <"$out/intel/polygons.jsonl")" -eq 906 ] || fail "expected 906 polygon lines"
-grep -q '"scans": 906' "$out/intel/summary.json" || fail "summary scans"
-grep -q '"skipped": 4' "$out/intel/summary.json" || fail "summary skipped"
+[ "$(wc -l <"$out/intel/polygons.jsonl")" -eq 910 ] || fail "expected 910 polygon lines"
+grep -q '"scans": 910' "$out/intel/summary.json" || fail "summary scans"
+grep -q '"skipped": 0' "$out/intel/summary.json" || fail "summary skipped"
+grep -q '"timestamp_jitter": 4' "$out/intel/summary.json" || fail "summary timestamp_jitter"
 grep -q '"median"' "$out/intel/summary.json" || fail "summary stage_us"
 ls "$out"/intel/snapshot_*.png >/dev/null 2>&1 || fail "no PNG snapshots"
 head -1 "$out/intel/polygons.jsonl" | grep -q '"polygon":\[\[' || fail "polygon field"
-grep -q "not after the previous scan" "$out/intel.err" || fail "skipped scans not reported"
+grep -q "clock jitter" "$out/intel.err" || fail "backwards timestamps not reported"
+# A larger step back than alignment.time_jitter_s rejects the scan.
+printf 'alignment:\n  time_jitter_s: 0.1\n' >"$out/strict-clock.yaml"
+"$bin" run --log "$log" --out "$out/intel-clock" --config "$out/strict-clock.yaml" --quiet \
+  2>"$out/intel-clock.err" || fail "run with time_jitter_s 0.1 failed"
+grep -q '"timestamp_not_increasing"' "$out/intel-clock/summary.json" || fail "no rejected scans"
+grep -q "more than alignment.time_jitter_s" "$out/intel-clock.err" || fail "rejection message"
 
 # A malformed line: reported with file and line, skipped and counted; --strict stops.
 head -n 40 "$log" >"$out/bad.log"

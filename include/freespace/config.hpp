@@ -70,6 +70,8 @@ struct AlignmentConfig {
   double max_speed_mps = 70.0;  // a pose moving faster than this (plus slack) is a jump; > 0
   double jump_slack_m = 2.0;    // allowed extra displacement per scan; >= 0
   int reset_after_jumps = 5;    // consecutive jumps after which the map restarts there; >= 1
+  double time_jitter_s = 1.0;   // a timestamp up to this much before the previous one is clock
+                                // jitter: the scan is used without a speed sample; >= 0
 };
 
 // Normalisation, neighbourhood hysteresis and morphological opening (paper IV.A).

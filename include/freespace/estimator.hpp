@@ -23,7 +23,7 @@ enum class ScanStatus {
 enum class RejectReason {
   kNone,
   kTimestampNotFinite,
-  kTimestampNotIncreasing,  // at or before the previous accepted scan
+  kTimestampNotIncreasing,  // before the previous accepted scan by more than time_jitter_s
   kPoseNotFinite,
   kPoseJump,  // moved farther than max_speed_mps * dt + jump_slack_m since the last scan
 };
@@ -60,8 +60,10 @@ struct Result {
   double timestamp_s = 0.0;
   ScanStatus status = ScanStatus::kOk;
   RejectReason reject_reason = RejectReason::kNone;
-  std::string message;     // why a scan was rejected or not used; empty when kOk
-  bool map_reset = false;  // the map was (re)started at this scan (first scan, or a jump)
+  std::string message;            // why a scan was rejected or not used; empty when kOk
+  bool map_reset = false;         // the map was (re)started at this scan (first scan, or a jump)
+  bool timestamp_jitter = false;  // timestamp not after the previous scan's, but within
+                                  // alignment.time_jitter_s: used without a speed sample
 
   Pose2D pose;           // the vehicle pose given with the scan
   Pose2D sensor_pose;    // the sensor's world pose (pose composed with the mount)

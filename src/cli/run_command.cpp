@@ -82,7 +82,7 @@ int Run(const RunOptions& options) {
   Warnings warnings;
   StageSeries times;
   std::map<std::string, long> rejected;
-  long scans_read = 0, processed = 0, no_update = 0, malformed = 0, resets = 0;
+  long scans_read = 0, processed = 0, no_update = 0, malformed = 0, resets = 0, jitter = 0;
   long invalid_range = 0, out_of_aperture = 0, bad_layer = 0, clutter = 0, virtual_points = 0;
   long points = 0, max_vertices = 0, vehicle_outside = 0;
   double vertex_sum = 0;
@@ -160,6 +160,15 @@ int Run(const RunOptions& options) {
           return kExitBadInput;
         }
       }
+      if (r.timestamp_jitter) {
+        ++jitter;
+        warnings.Print("timestamp_jitter",
+                       where + ": scan " + std::to_string(r.scan_index) + ": " + r.message);
+        if (options.strict) {
+          std::cerr << "freespace run: stopped (--strict) on a timestamp going backwards\n";
+          return kExitBadInput;
+        }
+      }
       if (r.map_reset && processed > 0) {
         ++resets;
         warnings.Print("reset", where + ": scan " + std::to_string(r.scan_index) +
@@ -213,6 +222,7 @@ int Run(const RunOptions& options) {
       {"malformed_lines", malformed},
       {"no_sensor_update", no_update},
       {"map_resets", resets},
+      {"timestamp_jitter", jitter},
       {"points",
        {{"total", points},
         {"invalid_range", invalid_range},
