@@ -9,7 +9,9 @@
 //
 // The passes run in parallel. Clusters are joined with a lock-free union-find that always
 // links the larger root under the smaller, so every cluster ends up rooted at its smallest
-// member whatever the thread interleaving: the result is deterministic.
+// member whatever the thread interleaving: the result is deterministic. Only the size of a
+// cluster matters (is it clutter?), which lets echoes deep inside large clusters skip the
+// labelling altogether.
 #include "dbscan.hpp"
 
 #include <tbb/parallel_for.h>
@@ -20,7 +22,7 @@
 namespace freespace {
 namespace {
 constexpr int kGrain = 128;
-constexpr int kBlock = 256;  // candidates tested per vectorised block
+constexpr int kMaxRecorded = 8;  // neighbours remembered per echo for the sure test
 }  // namespace
 
 ClutterFilter::ClutterFilter(const ClutterConfig& config, int bins, double bin_width_rad,
@@ -77,8 +79,11 @@ int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::ui
   first_.resize(n);
   last_.resize(n);
   core_.resize(n);
+  sure_.resize(n);
+  found_.resize(std::size_t(n) * kMaxRecorded);
+  found_count_.resize(n);
   cluster_.resize(n);
-  Reserve(n);
+  Reserve(n + 1);
   for (int i = 0; i < n; ++i) {
     const int s = cursor_[points[i].bin]++;
     order_[s] = i;
@@ -97,6 +102,7 @@ int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::ui
     last_[a] = bin_start_[int(std::min<double>(bins_ - 1, bin + reach)) + 1];
     parent_[a].store(a, std::memory_order_relaxed);
   }
+  parent_[n].store(n, std::memory_order_relaxed);
 
   const float eps = float(config_.eps_m), k = float(config_.eps_per_m);
   const float* x = x_.data();
@@ -116,68 +122,73 @@ int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::ui
     });
   };
 
-  // Core points, counting outwards from each echo: in dense places the first few decide.
-  const int min_points = config_.min_points;
+  // Core points, searching outwards from each echo: in dense places the first few candidates
+  // decide. The first min_cluster_size - 1 neighbours found are kept for the next pass.
+  const int min_points = config_.min_points, big = config_.min_cluster_size;
+  const int wanted = std::max(min_points - 1, std::min(big - 1, kMaxRecorded));
   parallel([&](int a) {
-    int count = 1;
-    for (int d = 1; count < min_points && (a - d >= first_[a] || a + d < last_[a]); ++d) {
-      if (a - d >= first_[a] && near(a, a - d)) ++count;
-      if (a + d < last_[a] && near(a, a + d)) ++count;
+    std::int32_t* found = found_.data() + std::size_t(a) * kMaxRecorded;
+    const int lo = first_[a], hi = last_[a];
+    int count = 0;
+    for (int d = 1; count < wanted && (a - d >= lo || a + d < hi); ++d) {
+      if (a - d >= lo && near(a, a - d)) found[count++] = a - d;
+      if (count < wanted && a + d < hi && near(a, a + d)) found[count++] = a + d;
     }
-    core_[a] = count >= min_points;
+    found_count_[a] = std::uint8_t(count);
+    core_[a] = count + 1 >= min_points;
   });
 
-  // Clusters: neighbouring core points joined, each pair from its left point.
+  // A core echo with at least min_cluster_size - 1 core neighbours is in a large enough
+  // cluster: they all share its cluster. Such "sure" echoes need no component labelling, which
+  // leaves it to the few echoes at cluster edges, in small clusters and in noise. (Only the
+  // neighbours found above are looked at: missing a sure echo costs time, never correctness.)
   const std::uint8_t* core = core_.data();
   parallel([&](int a) {
-    if (!core[a]) return;
-    // Per block of the window: the distance tests first, in a loop the compiler vectorises;
-    // then the few core neighbours found are joined.
-    std::uint8_t mask[kBlock];
-    const float xa = x[a], ya = y[a], ra = r[a];
-    int root = Find(a);
-    for (int begin = a + 1; begin < last_[a]; begin += kBlock) {
-      const int count = std::min(last_[a] - begin, kBlock);
-      const float* xb = x + begin;
-      const float* yb = y + begin;
-      const float* rb = r + begin;
-      const std::uint8_t* cb = core + begin;
-      for (int j = 0; j < count; ++j) {
-        const float e = eps + k * std::max(ra, rb[j]);
-        const float dx = xa - xb[j], dy = ya - yb[j];
-        mask[j] = std::uint8_t((dx * dx + dy * dy <= e * e) & cb[j]);
-      }
-      for (int j = 0; j < count; ++j) {
-        if (mask[j] && parent_[begin + j].load(std::memory_order_relaxed) != root) {
-          Unite(a, begin + j);
-          root = Find(a);
-        }
-      }
+    sure_[a] = 0;
+    if (!core[a] || big - 1 > kMaxRecorded) return;
+    const std::int32_t* found = found_.data() + std::size_t(a) * kMaxRecorded;
+    int count = 0;
+    for (int i = 0; i < found_count_[a]; ++i) count += core[found[i]];
+    sure_[a] = count >= big - 1;
+  });
+
+  // The other core echoes: joined with their core neighbours; a join with a sure echo joins
+  // the cluster node `n` that stands for every large cluster.
+  const int large = n;
+  const std::uint8_t* sure = sure_.data();
+  parallel([&](int a) {
+    if (!core[a] || sure[a]) return;
+    for (int b = first_[a]; b < last_[a]; ++b) {
+      if (b == a || !core[b] || !near(a, b)) continue;
+      Unite(a, sure[b] ? large : b);
     }
   });
 
-  // Cluster of every echo: its root; a border echo takes its first core neighbour's.
+  // Cluster of every echo: a sure echo's is the large node; another core echo's its root; a
+  // border echo takes its first core neighbour's in scan order.
   parallel([&](int a) {
-    if (core_[a]) {
-      cluster_[a] = Find(a);
+    if (core[a]) {
+      cluster_[a] = sure[a] ? large : Find(a);
       return;
     }
     cluster_[a] = -1;
     for (int b = first_[a]; b < last_[a]; ++b) {
-      if (core_[b] && near(a, b)) {
-        cluster_[a] = Find(b);
+      if (core[b] && near(a, b)) {
+        cluster_[a] = sure[b] ? large : Find(b);
         return;
       }
     }
   });
 
-  size_.assign(n, 0);
+  size_.assign(n + 1, 0);
   for (int a = 0; a < n; ++a) {
     if (cluster_[a] >= 0) ++size_[cluster_[a]];
   }
+  const int large_root = Find(large);
   int clutter = 0;
   for (int a = 0; a < n; ++a) {
-    const bool ok = cluster_[a] >= 0 && size_[cluster_[a]] >= config_.min_cluster_size;
+    const int c = cluster_[a] < 0 ? -1 : Find(cluster_[a]);
+    const bool ok = c >= 0 && (c == large_root || size_[c] >= big);
     (*keep)[order_[a]] = ok ? 1 : 0;
     clutter += ok ? 0 : 1;
   }

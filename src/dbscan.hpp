@@ -49,6 +49,9 @@ class ClutterFilter {
   // Per point, in sorted order: its search window, core flag, union-find parent, cluster.
   std::vector<std::int32_t> first_, last_;
   std::vector<std::uint8_t> core_;
+  std::vector<std::uint8_t> sure_;   // core, with enough core neighbours for a large cluster
+  std::vector<std::int32_t> found_;  // the first neighbours found, kMaxRecorded per echo
+  std::vector<std::uint8_t> found_count_;
   std::unique_ptr<std::atomic<std::int32_t>[]> parent_;
   int capacity_ = 0;
   std::vector<std::int32_t> cluster_;  // root of the cluster a point belongs to, -1 for noise
