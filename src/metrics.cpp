@@ -91,6 +91,7 @@ nlohmann::json ScanMetrics::ToJson() const {
           {"false_free_mask", false_free_mask},
           {"false_free_mask_rate", Number(false_free_mask_rate)},
           {"false_occupied", false_occupied},
+          {"errors_at_border", errors_at_border},
           {"polygon_area_m2", polygon_area_m2},
           {"intrusion_m2", intrusion_m2},
           {"intrusion_geometric_m2", intrusion_geometric_m2},
@@ -246,6 +247,26 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
       }
     }
   }
+  // Wrong cells on an obstacle's border: a neighbour has the other truth.
+  const int w = map.width, h = map.height;
+  auto occupied = [&](int r, int c) {
+    return covered_[std::size_t(r) * w + c] > kOccupiedFraction;
+  };
+  for (int r = 0; r < h; ++r) {
+    for (int c = 0; c < w; ++c) {
+      const LogOdds l = map.log_odds[std::size_t(r) * w + c];
+      const bool truth = occupied(r, c);
+      if (l == 0 || (l > 0) == truth) continue;
+      bool border = false;
+      for (int dr = -1; dr <= 1 && !border; ++dr) {
+        for (int dc = -1; dc <= 1 && !border; ++dc) {
+          const int rr = r + dr, cc = c + dc;
+          border = rr >= 0 && rr < h && cc >= 0 && cc < w && occupied(rr, cc) != truth;
+        }
+      }
+      m.errors_at_border += border ? 1 : 0;
+    }
+  }
   const double cell_area = map.resolution_m * map.resolution_m;
   m.accuracy = Ratio(double(m.correct), double(m.observed));
   m.false_free_rate = Ratio(double(m.false_free), double(m.observed_occupied));
@@ -290,7 +311,7 @@ nlohmann::json MetricsSeries::Summary() const {
   };
   // Sums over all scans, for the pooled ratios.
   double correct = 0, observed = 0, false_free = 0, occupied = 0, moving = 0, majority = 0,
-         mask = 0, covered = 0, reference = 0, covered_sight = 0, reference_sight = 0;
+         mask = 0, covered = 0, reference = 0, covered_sight = 0, reference_sight = 0, border = 0;
   for (const ScanMetrics& m : scans_) {
     correct += double(m.correct);
     observed += double(m.observed);
@@ -303,9 +324,11 @@ nlohmann::json MetricsSeries::Summary() const {
     reference += m.reference_free_m2;
     covered_sight += m.covered_in_sight_m2;
     reference_sight += m.reference_in_sight_m2;
+    border += double(m.errors_at_border);
   }
   nlohmann::json accuracy = stats([](const ScanMetrics& m) { return m.accuracy; });
   accuracy["pooled"] = Number(Ratio(correct, observed));
+  accuracy["errors_at_border_share"] = Number(Ratio(border, observed - correct));
   nlohmann::json ff = stats([](const ScanMetrics& m) { return m.false_free_rate; });
   ff["pooled"] = Number(Ratio(false_free, occupied));
   ff["pooled_static"] = Number(Ratio(false_free - moving, occupied));

@@ -39,6 +39,7 @@ struct ScanMetrics {
   long false_free_mask = 0;           // truly occupied cells in the engine's free mask
   double false_free_mask_rate = 0.0;  // false_free_mask / observed_occupied
   long false_occupied = 0;            // truly free observed cells called occupied
+  long errors_at_border = 0;  // wrong cells next to (8-neighbour) a cell of the other truth
   // The polygon, m^2.
   double polygon_area_m2 = 0.0;
   double intrusion_m2 = 0.0;            // polygon area on truly occupied cells

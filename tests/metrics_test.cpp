@@ -65,6 +65,7 @@ TEST(Metrics, CellAccuracyAndFalseFreeByHand) {
     EXPECT_EQ(m.false_free, 0);
     EXPECT_DOUBLE_EQ(m.false_free_rate, 0.0);
     EXPECT_EQ(m.false_occupied, 1);
+    EXPECT_EQ(m.errors_at_border, 1);  // (2, 2) touches the obstacle's cell (1, 1)
     EXPECT_EQ(evaluator.covered_fraction()[1 * 4 + 1], 0.25f);
     EXPECT_EQ(evaluator.covered_fraction()[1 * 4 + 2], 0.0f);
   }

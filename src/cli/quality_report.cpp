@@ -33,15 +33,16 @@ nlohmann::json QualityReport(const ReportContext& c, const MetricsSeries& metric
 }
 
 void PrintQuality(std::ostream& out, const nlohmann::json& s) {
-  char line[240];
-  std::snprintf(
-      line, sizeof line,
-      "  cell accuracy (observed cells)  mean %.4f  min %.4f  pooled %.4f   aim >= 0.98\n",
-      Get(s, "accuracy", "mean"), Get(s, "accuracy", "min"), Get(s, "accuracy", "pooled"));
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "  cell accuracy, observed cells   mean %.4f  min %.4f  pooled %.4f   aim >= 0.98"
+                "   (%.0f %% of the wrong cells border an obstacle)\n",
+                Get(s, "accuracy", "mean"), Get(s, "accuracy", "min"), Get(s, "accuracy", "pooled"),
+                100.0 * Get(s, "accuracy", "errors_at_border_share"));
   out << line;
   std::snprintf(line, sizeof line,
-                "  false-free rate                 mean %.4f  max %.4f  pooled %.4f   (static "
-                "obstacles only %.4f; free mask %.4f)\n",
+                "  false-free rate                 mean %.4f  max %.4f  pooled %.4f   static "
+                "obstacles only %.4f; free mask %.4f\n",
                 Get(s, "false_free_rate", "mean"), Get(s, "false_free_rate", "max"),
                 Get(s, "false_free_rate", "pooled"), Get(s, "false_free_rate", "pooled_static"),
                 Get(s, "false_free_mask_rate", "pooled"));

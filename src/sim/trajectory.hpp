@@ -30,7 +30,9 @@ struct MotionState {
 class Trajectory {
  public:
   Trajectory() = default;
-  explicit Trajectory(const Pose2D& start) : end_pose_(start) {}
+  // Starts at `start`, moving forward at `speed` (m/s, >= 0).
+  explicit Trajectory(const Pose2D& start, double speed = 0.0)
+      : end_pose_(start), end_speed_(speed) {}
 
   // Appends a leg: from the current pose the reference point follows `shape` (pieces of a
   // path starting there, in the direction of travel: the heading when driving forward, the
