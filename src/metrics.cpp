@@ -95,6 +95,7 @@ nlohmann::json ScanMetrics::ToJson() const {
           {"polygon_area_m2", polygon_area_m2},
           {"intrusion_m2", intrusion_m2},
           {"intrusion_geometric_m2", intrusion_geometric_m2},
+          {"intrusion_moving_m2", intrusion_moving_m2},
           {"reference_free_m2", reference_free_m2},
           {"covered_free_m2", covered_free_m2},
           {"coverage", Number(coverage)},
@@ -211,13 +212,14 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
   }
 
   ScanMetrics m;
-  double intrusion = 0.0, reference = 0.0, covered = 0.0, reference_sight = 0.0,
-         covered_sight = 0.0;
+  double intrusion = 0.0, intrusion_moving = 0.0, reference = 0.0, covered = 0.0,
+         reference_sight = 0.0, covered_sight = 0.0;
   const std::size_t cells = std::size_t(map.width) * map.height;
   for (std::size_t i = 0; i < cells; ++i) {
     const LogOdds l = map.log_odds[i];
     const bool occupied = covered_[i] > kOccupiedFraction;
     if (occupied) intrusion += polygon_[i];
+    if (moving_[i]) intrusion_moving += polygon_[i];
     if (l == 0) continue;
     ++m.observed;
     const bool called_free = l < 0;
@@ -273,6 +275,7 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
   m.false_free_mask_rate = Ratio(double(m.false_free_mask), double(m.observed_occupied));
   m.polygon_area_m2 = std::abs(sim::SignedArea(polygon));
   m.intrusion_m2 = intrusion * cell_area;
+  m.intrusion_moving_m2 = intrusion_moving * cell_area;
   m.reference_free_m2 = reference * cell_area;
   m.covered_free_m2 = covered * cell_area;
   m.coverage = Ratio(covered, reference);
@@ -348,6 +351,7 @@ nlohmann::json MetricsSeries::Summary() const {
       {"intrusion_m2", stats([](const ScanMetrics& m) { return m.intrusion_m2; })},
       {"intrusion_geometric_m2",
        stats([](const ScanMetrics& m) { return m.intrusion_geometric_m2; })},
+      {"intrusion_moving_m2", stats([](const ScanMetrics& m) { return m.intrusion_moving_m2; })},
       {"coverage", coverage},
       {"coverage_in_sight", in_sight},
       {"polygon_area_m2", stats([](const ScanMetrics& m) { return m.polygon_area_m2; })},

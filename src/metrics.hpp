@@ -39,11 +39,12 @@ struct ScanMetrics {
   long false_free_mask = 0;           // truly occupied cells in the engine's free mask
   double false_free_mask_rate = 0.0;  // false_free_mask / observed_occupied
   long false_occupied = 0;            // truly free observed cells called occupied
-  long errors_at_border = 0;  // wrong cells next to (8-neighbour) a cell of the other truth
+  long errors_at_border = 0;          // wrong cells next to (8-neighbour) a cell of the other truth
   // The polygon, m^2.
   double polygon_area_m2 = 0.0;
   double intrusion_m2 = 0.0;            // polygon area on truly occupied cells
   double intrusion_geometric_m2 = 0.0;  // polygon area inside the obstacles themselves
+  double intrusion_moving_m2 = 0.0;     // of intrusion_m2, on cells a moving obstacle covers
   double reference_free_m2 = 0.0;       // truly free cells, observed, inside the area seen so far
   double covered_free_m2 = 0.0;         // polygon area on those cells
   double coverage = 0.0;                // covered_free_m2 / reference_free_m2

@@ -85,6 +85,9 @@ TEST(Metrics, CellAccuracyAndFalseFreeByHand) {
     EXPECT_EQ(m.false_free_moving, 0);
     truth.moving = {true};
     EXPECT_EQ(QualityEvaluator().Evaluate(map.view, {}, truth).false_free_moving, 1);
+    const ScanMetrics moving =
+        QualityEvaluator().Evaluate(map.view, Box(0.5, 0.5, 1.5, 1.5), truth);
+    EXPECT_DOUBLE_EQ(moving.intrusion_moving_m2, 0.25);
   }
   {
     // An obstacle whose edges lie exactly on cell borders covers its cell only.

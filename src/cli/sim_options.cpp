@@ -14,7 +14,7 @@ void AddSimOptions(CLI::App* command, SimOptions* o) {
       ->capture_default_str();
   command
       ->add_option("--duration", o->duration_s,
-                   "Seconds to drive (0: the scenario's own: urban 32, highway 35, parking ~37)")
+                   "Seconds to drive (0: the scenario's own: urban 32, highway 35, parking 41.8)")
       ->check(CLI::Range(0.0, 3600.0));
   command
       ->add_option("--odometry-noise", o->odometry_noise,
