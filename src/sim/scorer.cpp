@@ -64,12 +64,14 @@ std::vector<std::vector<Vec2>> TruthScorer::Outlines(std::size_t index, const Ve
   std::vector<std::vector<Vec2>> lines;
   for (std::vector<Vec2>& line : truth_.world.Outlines(s.movers)) {
     std::vector<Vec2> moved = Transform(to_map, line);
-    bool near = false;
+    Vec2 min = moved.front(), max = moved.front();
     for (const Vec2& p : moved) {
-      near |= p.x() >= lo.x() - 20.0 && p.x() <= hi.x() + 20.0 && p.y() >= lo.y() - 20.0 &&
-              p.y() <= hi.y() + 20.0;
+      min = min.cwiseMin(p);
+      max = max.cwiseMax(p);
     }
-    if (near) lines.push_back(std::move(moved));
+    if (min.x() <= hi.x() && max.x() >= lo.x() && min.y() <= hi.y() && max.y() >= lo.y()) {
+      lines.push_back(std::move(moved));
+    }
   }
   return lines;
 }
