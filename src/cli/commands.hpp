@@ -23,6 +23,9 @@ struct Command {
 
 Command AddRunCommand(CLI::App& app);
 Command AddBenchCommand(CLI::App& app);
+Command AddSimulateCommand(CLI::App& app);
+Command AddEvalCommand(CLI::App& app);
+Command AddDemoCommand(CLI::App& app);
 
 // Options every engine-running command shares.
 struct EngineOptions {

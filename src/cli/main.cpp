@@ -61,8 +61,11 @@ int main(int argc, char** argv) {
       "config, log or backend. Run `freespace <command> --help` for a command's options.");
 
   std::vector<freespace::cli::Command> commands;
+  commands.push_back(freespace::cli::AddDemoCommand(app));
   commands.push_back(freespace::cli::AddRunCommand(app));
   commands.push_back(freespace::cli::AddBenchCommand(app));
+  commands.push_back(freespace::cli::AddSimulateCommand(app));
+  commands.push_back(freespace::cli::AddEvalCommand(app));
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,83 @@
+// eval.json and the printed quality summary: see quality_report.hpp.
+#include "quality_report.hpp"
+
+#include <cstdio>
+#include <fstream>
+
+#include "freespace/errors.hpp"
+
+namespace freespace::cli {
+namespace {
+
+double Get(const nlohmann::json& summary, const char* metric, const char* stat) {
+  const nlohmann::json& m = summary.at(metric);
+  return m.contains(stat) && m.at(stat).is_number() ? m.at(stat).get<double>() : NAN;
+}
+
+}  // namespace
+
+nlohmann::json QualityReport(const ReportContext& c, const MetricsSeries& metrics,
+                             const StageSeries& times) {
+  nlohmann::json per_scan = nlohmann::json::array();
+  for (const ScanMetrics& m : metrics.scans()) per_scan.push_back(m.ToJson());
+  return {{"scenario", c.scenario},
+          {"log", c.log},
+          {"truth", c.truth},
+          {"backend", c.backend},
+          {"scans_read", c.scans_read},
+          {"rejected", c.rejected},
+          {"definitions", "docs/metrics.md"},
+          {"summary", metrics.Summary()},
+          {"stage_us", times.Summary()},
+          {"per_scan", per_scan}};
+}
+
+void PrintQuality(std::ostream& out, const nlohmann::json& s) {
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "  cell accuracy, observed cells   mean %.4f  min %.4f  pooled %.4f   aim >= 0.98"
+                "   (%.0f %% of the wrong cells border an obstacle)\n",
+                Get(s, "accuracy", "mean"), Get(s, "accuracy", "min"), Get(s, "accuracy", "pooled"),
+                100.0 * Get(s, "accuracy", "errors_at_border_share"));
+  out << line;
+  std::snprintf(line, sizeof line,
+                "  false-free rate                 mean %.4f  max %.4f  pooled %.4f   static "
+                "obstacles only %.4f; free mask %.4f\n",
+                Get(s, "false_free_rate", "mean"), Get(s, "false_free_rate", "max"),
+                Get(s, "false_free_rate", "pooled"), Get(s, "false_free_rate", "pooled_static"),
+                Get(s, "false_free_mask_rate", "pooled"));
+  out << line;
+  std::snprintf(line, sizeof line,
+                "  polygon intrusion, cells        mean %.3f m2  median %.3f  p95 %.3f  max %.3f   "
+                "aim < 0.04 m2   (moving obstacles' cells: mean %.3f m2)\n",
+                Get(s, "intrusion_m2", "mean"), Get(s, "intrusion_m2", "median"),
+                Get(s, "intrusion_m2", "p95"), Get(s, "intrusion_m2", "max"),
+                Get(s, "intrusion_moving_m2", "mean"));
+  out << line;
+  std::snprintf(line, sizeof line,
+                "  polygon intrusion, geometric    mean %.3f m2  median %.3f  p95 %.3f  max %.3f\n",
+                Get(s, "intrusion_geometric_m2", "mean"),
+                Get(s, "intrusion_geometric_m2", "median"), Get(s, "intrusion_geometric_m2", "p95"),
+                Get(s, "intrusion_geometric_m2", "max"));
+  out << line;
+  std::snprintf(
+      line, sizeof line,
+      "  polygon coverage                mean %.4f  min %.4f  pooled %.4f   aim >= 0.85\n",
+      Get(s, "coverage", "mean"), Get(s, "coverage", "min"), Get(s, "coverage", "pooled"));
+  out << line;
+  std::snprintf(line, sizeof line,
+                "  coverage of what is in sight    mean %.4f  min %.4f  pooled %.4f\n",
+                Get(s, "coverage_in_sight", "mean"), Get(s, "coverage_in_sight", "min"),
+                Get(s, "coverage_in_sight", "pooled"));
+  out << line;
+}
+
+void WriteJson(const std::string& path, const nlohmann::json& doc) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw InputError(path + ": cannot create");
+  out << doc.dump(1) << "\n";
+  out.close();
+  if (out.fail()) throw InputError(path + ": write failed");
+}
+
+}  // namespace freespace::cli

@@ -1,0 +1,69 @@
+// A simulated drive, scan by scan: the scenario's world and trajectory, the scanner model and
+// the odometry, producing the scans the estimator consumes (pose = odometry) and the truth of
+// each. SimulationWriter stores them as the project's log formats plus the truth file.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "freespace/io.hpp"
+#include "freespace/scan.hpp"
+#include "sim/odometry.hpp"
+#include "sim/scanner.hpp"
+#include "sim/scenarios.hpp"
+#include "sim/truth.hpp"
+
+namespace freespace::sim {
+
+struct SimulationOptions {
+  std::string scenario = "urban";
+  std::uint64_t seed = 1;
+  double duration_s = 0.0;  // 0: the scenario's own duration
+  OdometryNoise odometry;
+  ScannerConfig scanner;
+};
+
+class Simulation {
+ public:
+  // Builds the scenario; throws std::invalid_argument for a bad name or option.
+  explicit Simulation(const SimulationOptions& options);
+
+  // Simulates the next scan into `scan` (pose: the odometry, rounded as the log writes it, so
+  // that a log read back gives the same scans) and appends its truth. False when done.
+  bool Next(Scan* scan, std::vector<EchoSource>* sources = nullptr);
+
+  std::size_t scan_count() const { return count_; }  // scans the drive has
+  const Scenario& scenario() const { return scenario_; }
+  const Truth& truth() const { return truth_; }  // the header and the scans so far
+  const TruthScan& last() const { return truth_.scans.back(); }
+
+ private:
+  SimulationOptions options_;
+  Scenario scenario_;
+  std::unique_ptr<ScanSimulator> scanner_;
+  Odometry odometry_;
+  Truth truth_;
+  std::size_t count_ = 0;
+  std::size_t next_ = 0;
+};
+
+// Writes a drive into a folder: sim.fslog (FREESPACE_LOG), sim.clf (one ROBOTLASER1 line per
+// layer) and, on Close(), truth.json. Throws InputError when a file cannot be written.
+class SimulationWriter {
+ public:
+  SimulationWriter(const std::string& dir, const ScannerConfig& scanner);
+  void Write(const Scan& scan);
+  void Close(const Truth& truth);
+
+  std::string log_path() const { return dir_ + "/sim.fslog"; }
+  std::string carmen_path() const { return dir_ + "/sim.clf"; }
+  std::string truth_path() const { return dir_ + "/truth.json"; }
+
+ private:
+  std::string dir_;
+  NativeLogWriter native_;
+  RobotLaserWriter carmen_;
+};
+
+}  // namespace freespace::sim

@@ -1,0 +1,264 @@
+// The quality metrics on small hand-made cases whose values are computed by hand: a 4 x 4 map
+// of 1 m cells with one obstacle, hand-drawn polygons, a seen area that moves with the map,
+// and the summary's pooled ratios; then the simulator and the estimator end to end, scored
+// in process and from the written log and truth, which must agree exactly.
+#include "metrics.hpp"
+
+#include <filesystem>
+
+#include "sim/scorer.hpp"
+#include "sim/simulator.hpp"
+#include "test_util.hpp"
+
+namespace freespace {
+namespace {
+
+using sim::Box;
+using sim::Polygon;
+
+// A 4 x 4 map of 1 m cells with its corner at the world origin. Rows are listed north first
+// (as the map is drawn); F observed free (log-odds -100), O observed occupied (+100), . unknown.
+struct HandMap {
+  std::vector<LogOdds> log_odds;
+  std::vector<std::uint8_t> free;
+  MapView view;
+
+  explicit HandMap(const std::vector<std::string>& rows_north_first, Vec2 origin = {0, 0}) {
+    log_odds.assign(16, 0);
+    free.assign(16, 0);
+    for (int i = 0; i < 4; ++i) {
+      const int row = 3 - i;
+      for (int col = 0; col < 4; ++col) {
+        const char c = rows_north_first[i][col];
+        log_odds[row * 4 + col] = c == 'F' ? -100 : c == 'O' ? 100 : 0;
+        free[row * 4 + col] = c == 'F' ? 1 : 0;
+      }
+    }
+    view.width = view.height = 4;
+    view.resolution_m = 1.0;
+    view.origin = origin;
+    view.log_odds = log_odds.data();
+    view.free = free.data();
+  }
+};
+
+sim::Polygon WholeMap() { return Box(-10, -10, 10, 10); }
+
+TEST(Metrics, CellAccuracyAndFalseFreeByHand) {
+  // One obstacle: the square [1.25, 1.75]^2 inside cell (row 1, col 1). Its neighbours only
+  // touch nothing: they are truly free.
+  TruthFrame truth;
+  truth.obstacles = {Box(1.25, 1.25, 1.75, 1.75)};
+  truth.visible = WholeMap();
+  {
+    // The map gets the obstacle right and calls cell (2, 2) occupied by mistake; (3, 3) unknown.
+    HandMap map({"FFF.",  //
+                 "FFOF",  //
+                 "FOFF",  //
+                 "FFFF"});
+    QualityEvaluator evaluator;
+    const ScanMetrics m = evaluator.Evaluate(map.view, {}, truth);
+    EXPECT_EQ(m.observed, 15);
+    EXPECT_EQ(m.observed_occupied, 1);
+    EXPECT_EQ(m.correct, 14);
+    EXPECT_DOUBLE_EQ(m.accuracy, 14.0 / 15.0);
+    EXPECT_EQ(m.false_free, 0);
+    EXPECT_DOUBLE_EQ(m.false_free_rate, 0.0);
+    EXPECT_EQ(m.false_occupied, 1);
+    EXPECT_EQ(m.errors_at_border, 1);  // (2, 2) touches the obstacle's cell (1, 1)
+    EXPECT_EQ(evaluator.covered_fraction()[1 * 4 + 1], 0.25f);
+    EXPECT_EQ(evaluator.covered_fraction()[1 * 4 + 2], 0.0f);
+  }
+  {
+    // The map calls the obstacle's cell free: one false-free cell of one, covered a quarter.
+    HandMap map({"FFF.",  //
+                 "FFFF",  //
+                 "FFFF",  //
+                 "FFFF"});
+    QualityEvaluator evaluator;
+    const ScanMetrics m = evaluator.Evaluate(map.view, {}, truth);
+    EXPECT_EQ(m.correct, 14);
+    EXPECT_EQ(m.false_free, 1);
+    EXPECT_EQ(m.false_free_majority, 0);
+    EXPECT_DOUBLE_EQ(m.false_free_rate, 1.0);
+    EXPECT_EQ(m.false_free_mask, 1);
+    EXPECT_EQ(m.false_free_moving, 0);
+    truth.moving = {true};
+    EXPECT_EQ(QualityEvaluator().Evaluate(map.view, {}, truth).false_free_moving, 1);
+    const ScanMetrics moving =
+        QualityEvaluator().Evaluate(map.view, Box(0.5, 0.5, 1.5, 1.5), truth);
+    EXPECT_DOUBLE_EQ(moving.intrusion_moving_m2, 0.25);
+  }
+  {
+    // An obstacle whose edges lie exactly on cell borders covers its cell only.
+    TruthFrame exact;
+    exact.obstacles = {Box(1, 1, 2, 2)};
+    exact.visible = WholeMap();
+    HandMap map({"FFFF",  //
+                 "FFFF",  //
+                 "FOFF",  //
+                 "FFFF"});
+    const ScanMetrics m = QualityEvaluator().Evaluate(map.view, {}, exact);
+    EXPECT_EQ(m.observed_occupied, 1);
+    EXPECT_DOUBLE_EQ(m.accuracy, 1.0);
+  }
+}
+
+TEST(Metrics, PolygonIntrusionAndCoverageByHand) {
+  TruthFrame truth;
+  truth.obstacles = {Box(1.25, 1.25, 1.75, 1.75)};
+  truth.visible = WholeMap();
+  HandMap map({"FFF.",  //
+               "FFFF",  //
+               "FOFF",  //
+               "FFFF"});
+  {
+    // The polygon [0.5, 2.5]^2 (4 m^2) holds cell (1, 1) whole: intrusion 1 m^2 on truly
+    // occupied cells, 0.25 m^2 on the obstacle itself. Reference: the 14 observed, truly free
+    // cells (16 less the obstacle's and the unknown one), 14 m^2; the polygon covers 4 - 1 of
+    // them: coverage 3 / 14.
+    const std::vector<Vec2> polygon = Box(0.5, 0.5, 2.5, 2.5);
+    const ScanMetrics m = QualityEvaluator().Evaluate(map.view, polygon, truth);
+    EXPECT_DOUBLE_EQ(m.polygon_area_m2, 4.0);
+    EXPECT_DOUBLE_EQ(m.intrusion_m2, 1.0);
+    EXPECT_DOUBLE_EQ(m.intrusion_geometric_m2, 0.25);
+    EXPECT_DOUBLE_EQ(m.reference_free_m2, 14.0);
+    EXPECT_DOUBLE_EQ(m.covered_free_m2, 3.0);
+    EXPECT_DOUBLE_EQ(m.coverage, 3.0 / 14.0);
+    EXPECT_TRUE(std::isnan(m.coverage_in_sight));  // no in-sight polygon given
+  }
+  {
+    // A polygon covering a quarter of the obstacle's cell: [0.5, 1.5]^2. Intrusion 0.25 m^2 on
+    // the cell, 0.0625 m^2 on the obstacle ([1.25, 1.5]^2).
+    const std::vector<Vec2> polygon = Box(0.5, 0.5, 1.5, 1.5);
+    const ScanMetrics m = QualityEvaluator().Evaluate(map.view, polygon, truth);
+    EXPECT_DOUBLE_EQ(m.intrusion_m2, 0.25);
+    EXPECT_DOUBLE_EQ(m.intrusion_geometric_m2, 0.0625);
+    EXPECT_DOUBLE_EQ(m.covered_free_m2, 0.75);
+  }
+  {
+    // A hand-drawn concave polygon, clockwise (the metrics take either orientation): the L
+    // (0,0) (3,0) (3,1) (1,1) (1,3) (0,3), area 5, avoiding cell (1, 1) but for its corner.
+    std::vector<Vec2> polygon = {{0, 3}, {1, 3}, {1, 1}, {3, 1}, {3, 0}, {0, 0}};
+    const ScanMetrics m = QualityEvaluator().Evaluate(map.view, polygon, truth);
+    EXPECT_DOUBLE_EQ(m.polygon_area_m2, 5.0);
+    EXPECT_DOUBLE_EQ(m.intrusion_m2, 0.0);
+    EXPECT_DOUBLE_EQ(m.covered_free_m2, 5.0);
+    EXPECT_DOUBLE_EQ(m.coverage, 5.0 / 14.0);
+    // In sight: only the western half (x < 2): 7 reference cells, of which the L covers
+    // column 0 (rows 0 .. 2) and cell (0, 1): 4 m^2.
+    TruthFrame half = truth;
+    half.in_sight = Box(0, 0, 2, 4);
+    const ScanMetrics h = QualityEvaluator().Evaluate(map.view, polygon, half);
+    EXPECT_DOUBLE_EQ(h.reference_in_sight_m2, 7.0);
+    EXPECT_DOUBLE_EQ(h.covered_in_sight_m2, 4.0);
+    EXPECT_DOUBLE_EQ(h.coverage_in_sight, 4.0 / 7.0);
+  }
+}
+
+TEST(Metrics, TheSeenAreaAccumulatesAndMovesWithTheMap) {
+  TruthFrame truth;
+  truth.visible = Box(0, 0, 1, 4);  // column 0 of the first map (world x 0 .. 1)
+  HandMap first({"FFFF", "FFFF", "FFFF", "FFFF"});
+  QualityEvaluator evaluator;
+  const std::vector<Vec2> polygon = Box(0, 0, 4, 4);
+  EXPECT_DOUBLE_EQ(evaluator.Evaluate(first.view, polygon, truth).reference_free_m2, 4.0);
+  // The map moves one cell west: world x 0 .. 1 is now column 1. This scan sees nothing new.
+  truth.visible.clear();
+  HandMap west({"FFFF", "FFFF", "FFFF", "FFFF"}, {-1, 0});
+  const ScanMetrics m = evaluator.Evaluate(west.view, polygon, truth);
+  EXPECT_DOUBLE_EQ(m.reference_free_m2, 4.0);
+  EXPECT_EQ(evaluator.seen()[0 * 4 + 1], 1);
+  EXPECT_EQ(evaluator.seen()[0 * 4 + 0], 0);
+  // Two cells east: world x 0 .. 1 has left the map.
+  HandMap east({"FFFF", "FFFF", "FFFF", "FFFF"}, {1, 0});
+  EXPECT_TRUE(std::isnan(evaluator.Evaluate(east.view, polygon, truth).coverage));
+  // A map whose origin is not a whole number of cells away restarts the seen area.
+  truth.visible = WholeMap();
+  HandMap shifted({"FFFF", "FFFF", "FFFF", "FFFF"}, {0.5, 0});
+  EXPECT_DOUBLE_EQ(evaluator.Evaluate(shifted.view, polygon, truth).reference_free_m2, 16.0);
+}
+
+TEST(Metrics, SummaryPoolsAndAverages) {
+  MetricsSeries series;
+  ScanMetrics a, b;
+  a.observed = 10;
+  a.correct = 9;
+  a.accuracy = 0.9;
+  a.observed_occupied = 4;
+  a.false_free = 2;
+  a.false_free_rate = 0.5;
+  a.intrusion_m2 = 1.0;
+  a.coverage = std::nan("");
+  b.observed = 30;
+  b.correct = 30;
+  b.accuracy = 1.0;
+  b.observed_occupied = 0;
+  b.false_free_rate = std::nan("");
+  b.intrusion_m2 = 3.0;
+  b.reference_free_m2 = 2.0;
+  b.covered_free_m2 = 1.0;
+  b.coverage = 0.5;
+  series.Add(a);
+  series.Add(b);
+  const nlohmann::json s = series.Summary();
+  EXPECT_DOUBLE_EQ(s["accuracy"]["mean"].get<double>(), 0.95);
+  EXPECT_DOUBLE_EQ(s["accuracy"]["pooled"].get<double>(), 39.0 / 40.0);
+  EXPECT_DOUBLE_EQ(s["false_free_rate"]["mean"].get<double>(), 0.5);  // b has none to score
+  EXPECT_DOUBLE_EQ(s["false_free_rate"]["pooled"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(s["intrusion_m2"]["mean"].get<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(s["intrusion_m2"]["max"].get<double>(), 3.0);
+  EXPECT_DOUBLE_EQ(s["coverage"]["mean"].get<double>(), 0.5);
+  EXPECT_TRUE(a.ToJson()["coverage"].is_null());
+}
+
+// Runs the estimator over `scans` and scores each against `truth`.
+std::vector<ScanMetrics> Score(const sim::Truth& truth, const std::vector<Scan>& scans) {
+  Config config;
+  config.sensor = truth.scanner.EngineSensor();
+  Estimator estimator(config);
+  sim::TruthScorer scorer(truth);
+  std::vector<ScanMetrics> out;
+  for (const Scan& scan : scans) {
+    const Result& r = estimator.Process(scan);
+    out.push_back(scorer.Score(scorer.Find(r.timestamp_s), estimator.map(), r));
+  }
+  return out;
+}
+
+TEST(Metrics, ScoresFromTheWrittenLogAndTruthEqualTheDrivesOwn) {
+  const std::string dir = ::testing::TempDir() + "/metrics_round_trip";
+  std::filesystem::create_directories(dir);
+  sim::SimulationOptions options;
+  options.scenario = "parking";
+  options.duration_s = 3.0;
+  options.odometry = sim::OdometryNoise::Preset("typical");
+  sim::Simulation simulation(options);
+  sim::SimulationWriter writer(dir, simulation.truth().scanner);
+  std::vector<Scan> scans;
+  Scan scan;
+  while (simulation.Next(&scan)) {
+    writer.Write(scan);
+    scans.push_back(scan);
+  }
+  writer.Close(simulation.truth());
+  const std::vector<ScanMetrics> live = Score(simulation.truth(), scans);
+
+  auto reader = OpenLog(writer.log_path());
+  std::vector<Scan> read;
+  while (reader->Next(&scan)) read.push_back(scan);
+  const std::vector<ScanMetrics> replayed = Score(sim::ReadTruth(writer.truth_path()), read);
+  ASSERT_EQ(live.size(), replayed.size());
+  for (std::size_t i = 0; i < live.size(); ++i) {
+    EXPECT_EQ(live[i].ToJson(), replayed[i].ToJson()) << "scan " << i;
+  }
+  // Sane values on a real drive: a polygon, a mostly right map, mostly covered free space.
+  const ScanMetrics& last = live.back();
+  EXPECT_GT(last.polygon_area_m2, 50.0);
+  EXPECT_GT(last.accuracy, 0.95);
+  EXPECT_GT(last.coverage, 0.5);
+  EXPECT_LE(last.coverage, 1.0);
+}
+
+}  // namespace
+}  // namespace freespace

@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# The simulator's commands end to end: `simulate` writes logs and truth that `run` and `eval`
+# read, `demo` writes every output, bad input gives the documented exit codes.
+# Usage: sim_cli_test.sh FREESPACE_BINARY OUT_DIR
+set -u
+bin=$1 out=$2
+rm -rf "$out" && mkdir -p "$out"
+fail() { echo "FAIL: $*"; exit 1; }
+
+for command in demo simulate eval; do
+  "$bin" --help | grep -q "$command" || fail "--help does not list $command"
+done
+
+# simulate: 1 s of parking is 26 scans; the logs read back through `run` like any log.
+"$bin" simulate --scenario parking --duration 1 --seed 5 --out "$out/sim" 2>"$out/sim.err" \
+  || fail "simulate failed: $(cat "$out/sim.err")"
+for f in sim.fslog sim.clf truth.json; do [ -s "$out/sim/$f" ] || fail "simulate wrote no $f"; done
+[ "$(grep -c '^SCAN' "$out/sim/sim.fslog")" -eq 26 ] || fail "expected 26 SCAN lines"
+grep -q '"format": "freespace-truth"' "$out/sim/truth.json" || fail "truth format tag"
+"$bin" run --log "$out/sim/sim.fslog" --out "$out/run" --quiet 2>/dev/null || fail "run on sim.fslog"
+[ "$(wc -l <"$out/run/polygons.jsonl")" -eq 26 ] || fail "run: expected 26 polygon lines"
+"$bin" run --log "$out/sim/sim.clf" --out "$out/run-clf" --quiet 2>/dev/null || fail "run on sim.clf"
+[ "$(wc -l <"$out/run-clf/polygons.jsonl")" -eq 26 ] || fail "run on sim.clf: expected 26 lines"
+
+# eval: scores every scan.
+"$bin" eval --log "$out/sim/sim.fslog" --truth "$out/sim/truth.json" --out "$out/eval" \
+  >"$out/eval.txt" 2>&1 || fail "eval failed: $(cat "$out/eval.txt")"
+grep -q "cell accuracy" "$out/eval.txt" || fail "eval prints no accuracy"
+grep -q '"per_scan"' "$out/eval/eval.json" || fail "eval.json has no per_scan"
+[ "$(grep -c '"coverage_in_sight"' "$out/eval/eval.json")" -ge 26 ] || fail "eval.json per-scan"
+
+# A truth of another drive: exit 2 and a message saying so.
+"$bin" simulate --scenario parking --duration 0.5 --seed 5 --out "$out/short" 2>/dev/null
+"$bin" eval --log "$out/sim/sim.fslog" --truth "$out/short/truth.json" --out "$out/bad" \
+  >"$out/bad.txt" 2>&1
+[ $? -eq 2 ] || fail "eval against a foreign truth must exit 2"
+grep -q "does not belong" "$out/bad.txt" || fail "foreign truth not reported"
+"$bin" eval --log "$out/sim/sim.fslog" --truth "$out/sim/sim.fslog" --out "$out/bad" \
+  >/dev/null 2>&1
+[ $? -eq 2 ] || fail "eval with a log as truth must exit 2"
+
+# demo: every output.
+"$bin" demo --scenario highway --duration 1 --snapshot-every 10 --out "$out/demo" --quiet \
+  >"$out/demo.txt" 2>&1 || fail "demo failed: $(cat "$out/demo.txt")"
+for f in sim.fslog sim.clf truth.json config.yaml polygons.jsonl eval.json demo.avi \
+  snapshot_000000.png snapshot_000025.png; do
+  [ -s "$out/demo/$f" ] || fail "demo wrote no $f"
+done
+grep -q "median ms per scan" "$out/demo.txt" || fail "demo prints no timings"
+grep -q "polygon coverage" "$out/demo.txt" || fail "demo prints no quality"
+head -c 4 "$out/demo/demo.avi" | grep -q RIFF || fail "demo.avi is not an AVI file"
+
+# Bad arguments.
+"$bin" demo --scenario moon --out "$out/x" >/dev/null 2>&1 && fail "unknown scenario accepted"
+"$bin" simulate --odometry-noise huge --out "$out/x" >/dev/null 2>&1 && fail "bad noise accepted"
+
+echo "sim cli: all cases passed"
