@@ -1,0 +1,140 @@
+// Kernel stage 1: the enhanced inverse sensor model (paper II). The full-scan polygon is
+// rasterized into the per-scan update mask by the even-odd rule and the kept echoes are marked
+// occupied. Mirrors host/rasterize.cpp bit for bit: each polygon edge toggles a parity bit at
+// the first column whose centre lies right of its crossing with a row's centre line (integer
+// geometry in 1/256 cell, 64-bit), and a prefix XOR along each row turns parity into inside /
+// outside. A centre exactly on an edge counts as left of it.
+//
+// rasterize_edges runs one work-item per polygon edge and per kept echo and sets bits in two
+// bit planes (parity toggles, occupied): one bit per cell, 32 cells a word, each row padded to
+// whole words. rasterize_rows runs one work-group per row: it scans the row's toggles, writes
+// the row of the update mask and clears both planes for the next scan. Bits make the prefix
+// XOR a few word operations and let edges meet in any order (XOR commutes).
+//
+// Build options: WIDTH, HEIGHT, FIXED_BITS, UPDATE_NONE, UPDATE_FREE, UPDATE_OCCUPIED,
+// RASTER_GROUP (work-group size of rasterize_rows, a power of two up to 256).
+//
+// The job buffer, written by the host each scan: job[0] vertex count n, job[1] occupied count,
+// job[2] first row, job[3] end row (both clipped to the map and non-empty), then the n vertices
+// (x, y in fixed point, map cell coordinates), then the occupied cells (row * WIDTH + col).
+
+#define RASTER_WORDS ((WIDTH + 31) / 32)
+#define RASTER_FIXED_ONE (1L << FIXED_BITS)
+#define RASTER_FIXED_HALF (RASTER_FIXED_ONE / 2)
+#define RASTER_WORDS_PER_ITEM ((RASTER_WORDS + RASTER_GROUP - 1) / RASTER_GROUP)
+
+// floor(a / b) for b > 0.
+long RasterFloorDiv(long a, long b) {
+  const long q = a / b;
+  return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+
+// The column whose parity the edge (x0, y0) -> (x1, y1) toggles on the centre line yc, or
+// WIDTH when the crossing is right of every centre in the row. The crossing is
+// x = x0 + (yc - y0) * (x1 - x0) / (y1 - y0); the first column c with centre 256 c + 128 > x
+// is floor((x - 128) / 256) + 1.
+long RasterCrossingColumn(long x0, long y0, long x1, long y1, long yc) {
+  long num = (x0 - RASTER_FIXED_HALF) * (y1 - y0) + (yc - y0) * (x1 - x0);
+  long den = (y1 - y0) * RASTER_FIXED_ONE;
+  if (den < 0) {
+    num = -num;
+    den = -den;
+  }
+  return clamp(RasterFloorDiv(num, den) + 1, 0L, (long)WIDTH);
+}
+
+__kernel void rasterize_edges(__global const int* job, __global uint* toggles,
+                              __global uint* occupied, __global uchar* update) {
+  const int i = get_global_id(0);
+  const int n = job[0], occupied_count = job[1], r0 = job[2], r1 = job[3];
+  __global const int* v = job + 4;
+  if (i < n) {
+    const int j = i + 1 == n ? 0 : i + 1;
+    const long x0 = v[2 * i], y0 = v[2 * i + 1];
+    const long x1 = v[2 * j], y1 = v[2 * j + 1];
+    if (y0 == y1) return;
+    const long ylo = min(y0, y1), yhi = max(y0, y1);
+    // Rows whose centre yc = 256 r + 128 satisfies ylo <= yc < yhi.
+    const long ra = max(
+        RasterFloorDiv(ylo - RASTER_FIXED_HALF + RASTER_FIXED_ONE - 1, RASTER_FIXED_ONE), (long)r0);
+    const long rb = min(
+        RasterFloorDiv(yhi - RASTER_FIXED_HALF + RASTER_FIXED_ONE - 1, RASTER_FIXED_ONE), (long)r1);
+    for (long r = ra; r < rb; ++r) {
+      const long k = RasterCrossingColumn(x0, y0, x1, y1, r * RASTER_FIXED_ONE + RASTER_FIXED_HALF);
+      if (k < WIDTH) {
+        atomic_xor(&toggles[r * RASTER_WORDS + (k >> 5)], 1u << (uint)(k & 31));
+      }
+    }
+  } else if (i < n + occupied_count) {
+    const int cell = job[4 + 2 * n + (i - n)];
+    const int r = cell / WIDTH, c = cell % WIDTH;
+    if (r >= r0 && r < r1) {
+      atomic_or(&occupied[r * RASTER_WORDS + (c >> 5)], 1u << (uint)(c & 31));
+    } else {
+      // Outside the rewritten rows rasterize_rows never writes, so this cannot race; the host
+      // marks such a cell as well.
+      update[cell] = UPDATE_OCCUPIED;
+    }
+  }
+}
+
+// Sixteen mask bytes from sixteen parity and occupied bits (occupied wins).
+uchar16 RasterExpand16(uint parity, uint occupied) {
+  const uint16 lane = (uint16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const uint16 p = ((uint16)(parity) >> lane) & 1u;
+  const uint16 o = ((uint16)(occupied) >> lane) & 1u;
+  const uint16 inside = select((uint16)(UPDATE_NONE), (uint16)(UPDATE_FREE), p != 0u);
+  return convert_uchar16(select(inside, (uint16)(UPDATE_OCCUPIED), o != 0u));
+}
+
+// Global size (RASTER_GROUP, row count), local size (RASTER_GROUP, 1): work-group g rewrites row
+// job[2] + g. Work-item t owns a run of whole words of the row; `carry` holds one bit per
+// work-item, the XOR of the parities of its run.
+__kernel void rasterize_rows(__global const int* job, __global uint* toggles,
+                             __global uint* occupied, __global uchar* update) {
+  __local uint carry[(RASTER_GROUP + 31) / 32];
+  const int t = get_local_id(0);
+  const int r = job[2] + (int)get_group_id(1);
+  const int w0 = min(t * RASTER_WORDS_PER_ITEM, RASTER_WORDS);
+  const int w1 = min(w0 + RASTER_WORDS_PER_ITEM, RASTER_WORDS);
+  __global uint* row_toggles = toggles + r * RASTER_WORDS;
+  __global uint* row_occupied = occupied + r * RASTER_WORDS;
+  __global uchar* row_update = update + r * WIDTH;
+
+  if (t < (RASTER_GROUP + 31) / 32) carry[t] = 0;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  uint run = 0;
+  for (int w = w0; w < w1; ++w) run ^= row_toggles[w];
+  if (popcount(run) & 1) atomic_or(&carry[t >> 5], 1u << (t & 31));
+  barrier(CLK_LOCAL_MEM_FENCE);
+
+  // Parity left of this run: the XOR of the runs of work-items 0 .. t - 1.
+  uint left = popcount(carry[t >> 5] & ((1u << (t & 31)) - 1u));
+  for (int k = 0; k < (t >> 5); ++k) left += popcount(carry[k]);
+  uint fill = (left & 1) ? 0xffffffffu : 0u;
+
+  for (int w = w0; w < w1; ++w) {
+    uint x = row_toggles[w];
+    const uint o = row_occupied[w];
+    row_toggles[w] = 0;
+    row_occupied[w] = 0;
+    // Inclusive prefix XOR of the word's bits, then the parity carried in from the left.
+    x ^= x << 1;
+    x ^= x << 2;
+    x ^= x << 4;
+    x ^= x << 8;
+    x ^= x << 16;
+    x ^= fill;
+    fill = (x >> 31) ? 0xffffffffu : 0u;
+    const int c0 = w * 32;
+    __global uchar* out = row_update + c0;
+    if (c0 + 32 <= WIDTH) {
+      vstore16(RasterExpand16(x, o), 0, out);
+      vstore16(RasterExpand16(x >> 16, o >> 16), 0, out + 16);
+    } else {
+      for (int b = 0; b < WIDTH - c0; ++b) {
+        out[b] = ((o >> b) & 1u) ? UPDATE_OCCUPIED : (((x >> b) & 1u) ? UPDATE_FREE : UPDATE_NONE);
+      }
+    }
+  }
+}

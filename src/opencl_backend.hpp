@@ -1,0 +1,117 @@
+// The OpenCL backend: every kernel stage as the kernels of kernels/*.cl, run on the device the
+// config (or the environment) chooses. The map and every per-scan buffer stay resident on the
+// device between scans; a scan uploads its raster (or ray) job and reads back only C_Edge.
+// Stages are enqueued without waiting; InSight() waits for its result, Finish() for everything.
+// Bit-identical to the host backend (host/), which is its oracle in the tests.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "backend.hpp"
+#include "opencl_runtime.hpp"
+
+namespace freespace {
+
+class OpenClBackend final : public Backend {
+ public:
+  // Chooses the device (BackendConfig::opencl_platform / opencl_device, overridden by
+  // FREESPACE_OPENCL_PLATFORM / FREESPACE_OPENCL_DEVICE), builds the kernels for `params` (or
+  // takes them from the cache) and allocates every buffer. Throws BackendError.
+  OpenClBackend(const KernelParams& params, const BackendConfig& config);
+  ~OpenClBackend() override;
+
+  // "opencl: <device name>".
+  std::string name() const override { return name_; }
+
+  void Rasterize(const RasterJob& job) override;                            // rasterize.cl
+  void Fuse(int row_begin, int row_end) override;                           // fuse.cl
+  void CastRays(const RayJob& job) override;                                // rays.cl
+  void FuseRays(int row_begin, int row_end) override;                       // rays.cl
+  void Classify() override;                                                 // classify.cl
+  void InSight(CellIndex vehicle, std::vector<CellIndex>* edges) override;  // insight.cl
+  void Shift(int dx, int dy) override;                                      // shift.cl
+  void Clear() override;
+  void Finish() override;
+
+  void ReadLogOdds(LogOdds* dst) override;
+  void WriteLogOdds(const LogOdds* src) override;
+  void ReadUpdateMask(std::uint8_t* dst) override;
+  void WriteUpdateMask(const std::uint8_t* src) override;
+  void ReadFree(std::uint8_t* dst) override;
+  void ReadRayDelta(std::int32_t* dst) override;
+  void WriteFree(const std::uint8_t* src) override;
+
+  // Device times from OpenCL event profiling, each from the start of a stage's first command to
+  // the end of its last: rasterize_us = job upload + rasterize kernels (or ray upload + rays_cast
+  // for the conventional model), fuse_us = fuse (or rays_fuse), classify_us = the five
+  // classify kernels, insight_us = insight kernels + reading C_Edge back. Each measurement is
+  // reported once; stages that did not run since the last call keep the caller's values.
+  bool KernelTimes(StageTimes* times) const override;
+
+  // The -D build options of the kernels for `params` (the program cache's key).
+  static std::string BuildOptions(const KernelParams& params, int raster_group);
+
+ private:
+  enum Stage { kRasterStage, kFuseStage, kClassifyStage, kInSightStage, kStageCount };
+
+  std::size_t cells() const { return std::size_t(params_.width) * params_.height; }
+  opencl::Kernel MakeKernel(const char* name) const;
+  std::size_t LocalSize(cl_kernel kernel, std::size_t preferred) const;
+  void Launch(cl_kernel kernel, cl_uint dims, const std::size_t* global, const std::size_t* local,
+              cl_event* event);
+  // Copies a 4-int header and `a`, `b` into the job buffer with a non-blocking write whose
+  // event becomes `*event` (and upload_done_).
+  void Upload(const std::int32_t (&header)[4], const std::int32_t* a, std::size_t a_count,
+              const std::int32_t* b, std::size_t b_count, opencl::Event* event);
+  void GrowJob(std::size_t ints);
+  void Fill(cl_mem buffer, std::size_t bytes);
+  void Read(cl_mem buffer, std::size_t bytes, void* dst);
+  void Write(cl_mem buffer, std::size_t bytes, const void* src);
+  void SetStage(Stage stage, opencl::Event begin, opencl::Event end);
+
+  std::shared_ptr<opencl::DeviceContext> device_;
+  std::string name_;
+  opencl::Queue queue_;
+  cl_program program_ = nullptr;  // owned by device_'s cache
+  int raster_group_ = 1;
+
+  // Device buffers. The map lives in map_[current_]; the shift writes the other one and flips
+  // current_. Kernels that touch the map exist once per buffer, so no argument is re-set.
+  opencl::Mem map_[2];
+  int current_ = 0;
+  opencl::Mem update_;            // stage 1 -> stage 2, uchar per cell
+  opencl::Mem toggles_;           // stage 1 bit planes, one bit per cell, rows of whole words
+  opencl::Mem occupied_;          //
+  opencl::Mem pass_a_;            // stage 3 intermediates, padded by the opening radius
+  opencl::Mem pass_b_;            //
+  opencl::Mem free_;              // stage 3 output, stage 4 input
+  opencl::Mem label_;             // stage 4: T, smallest label per stop cell (INT_MAX = none)
+  opencl::Mem stop_;              // stage 4: stop cell per label
+  opencl::Mem edges_;             // stage 4 output: count, then C_Edge cells
+  opencl::Mem delta_;             // conventional model: per-cell sum of one scan's rays
+  opencl::Mem job_;               // header + vertices + occupied cells, or header + ray ends
+  std::size_t job_capacity_ = 0;  // ints
+
+  opencl::Kernel rasterize_edges_, rasterize_rows_, insight_cast_, insight_compact_, rays_cast_;
+  opencl::Kernel erode_rows_, erode_cols_, dilate_rows_, dilate_cols_;
+  std::array<opencl::Kernel, 2> fuse_, rays_fuse_, hysteresis_, shift_;  // per map buffer
+
+  // Work sizes, fixed at construction.
+  std::size_t grid_local_[2] = {1, 1};            // classify and shift: (columns, 1)
+  std::size_t grid_global_[2] = {1, 1};           // (width rounded up, height)
+  std::size_t cell_local_ = 1;                    // fuse, rays_fuse
+  std::size_t edge_local_ = 1;                    // rasterize_edges, rays_cast
+  std::size_t cast_local_ = 1, cast_global_ = 1;  // insight_cast
+  std::size_t compact_size_ = 1;                  // insight_compact: one work-group
+
+  std::vector<std::int32_t> job_host_;    // staging of the job upload
+  std::vector<std::int32_t> edges_host_;  // C_Edge as read back
+  opencl::Event upload_done_;             // the last upload from job_host_
+
+  mutable std::array<opencl::Event, kStageCount> begin_, end_;
+};
+
+}  // namespace freespace
