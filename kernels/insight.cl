@@ -9,7 +9,8 @@
 // writes C_Edge: the distinct stop cells ordered by their smallest label, as
 // edges[0] = count, edges[1 ..] = row * WIDTH + col; then it resets T for the next scan.
 //
-// Build options: WIDTH, HEIGHT.
+// Build options: those of common.cl. The free mask is padded (common.cl); stop cells and C_Edge
+// are plain row * WIDTH + col.
 
 #define INSIGHT_LABELS (2 * HEIGHT + 2 * WIDTH)
 
@@ -34,7 +35,7 @@ __kernel void insight_cast(__global const uchar* free, __global int* label, __gl
   int err = dx + dy;
   int x = x0, y = y0;
   while (true) {
-    if ((x != x0 || y != y0) && !free[y * WIDTH + x]) break;
+    if ((x != x0 || y != y0) && !free[CELL(y, x)]) break;
     if (x == x1 && y == y1) break;
     const int e2 = 2 * err;
     if (e2 >= dy) {

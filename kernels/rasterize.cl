@@ -7,12 +7,13 @@
 //
 // rasterize_edges runs one work-item per polygon edge and per kept echo and sets bits in two
 // bit planes (parity toggles, occupied): one bit per cell, 32 cells a word, each row padded to
-// whole words. rasterize_rows runs one work-group per row: it scans the row's toggles, writes
-// the row of the update mask and clears both planes for the next scan. Bits make the prefix
-// XOR a few word operations and let edges meet in any order (XOR commutes).
+// whole words. rasterize_rows scans each row's toggles, writes the row of the (padded) update
+// mask and clears both planes for the next scan: one work-item per row on a CPU
+// (RASTER_GROUP 1), one work-group per row elsewhere. Bits make the prefix XOR a few word
+// operations and let edges meet in any order (XOR commutes).
 //
-// Build options: WIDTH, HEIGHT, FIXED_BITS, UPDATE_NONE, UPDATE_FREE, UPDATE_OCCUPIED,
-// RASTER_GROUP (work-group size of rasterize_rows, a power of two up to 256).
+// Build options: FIXED_BITS, UPDATE_NONE, UPDATE_FREE, UPDATE_OCCUPIED, RASTER_GROUP (a power
+// of two up to 256), and those of common.cl.
 //
 // The job buffer, written by the host each scan: job[0] vertex count n, job[1] occupied count,
 // job[2] first row, job[3] end row (both clipped to the map and non-empty), then the n vertices
@@ -73,46 +74,26 @@ __kernel void rasterize_edges(__global const int* job, __global uint* toggles,
     } else {
       // Outside the rewritten rows rasterize_rows never writes, so this cannot race; the host
       // marks such a cell as well.
-      update[cell] = UPDATE_OCCUPIED;
+      update[CELL(r, c)] = UPDATE_OCCUPIED;
     }
   }
 }
 
-// Sixteen mask bytes from sixteen parity and occupied bits (occupied wins).
-uchar16 RasterExpand16(uint parity, uint occupied) {
+// Sixteen mask values from sixteen parity and occupied bits (occupied wins), zero on lanes
+// past the map's width (c0 is the column of lane 0).
+uchar16 RasterExpand16(uint parity, uint occupied, int c0) {
   const uint16 lane = (uint16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   const uint16 p = ((uint16)(parity) >> lane) & 1u;
   const uint16 o = ((uint16)(occupied) >> lane) & 1u;
   const uint16 inside = select((uint16)(UPDATE_NONE), (uint16)(UPDATE_FREE), p != 0u);
-  return convert_uchar16(select(inside, (uint16)(UPDATE_OCCUPIED), o != 0u));
+  const uint16 value = select(inside, (uint16)(UPDATE_OCCUPIED), o != 0u);
+  return convert_uchar16(select((uint16)(0), value, InsideLanes(c0)));
 }
 
-// Global size (RASTER_GROUP, row count), local size (RASTER_GROUP, 1): work-group g rewrites row
-// job[2] + g. Work-item t owns a run of whole words of the row; `carry` holds one bit per
-// work-item, the XOR of the parities of its run.
-__kernel void rasterize_rows(__global const int* job, __global uint* toggles,
-                             __global uint* occupied, __global uchar* update) {
-  __local uint carry[(RASTER_GROUP + 31) / 32];
-  const int t = get_local_id(0);
-  const int r = job[2] + (int)get_group_id(1);
-  const int w0 = min(t * RASTER_WORDS_PER_ITEM, RASTER_WORDS);
-  const int w1 = min(w0 + RASTER_WORDS_PER_ITEM, RASTER_WORDS);
-  __global uint* row_toggles = toggles + r * RASTER_WORDS;
-  __global uint* row_occupied = occupied + r * RASTER_WORDS;
-  __global uchar* row_update = update + r * WIDTH;
-
-  if (t < (RASTER_GROUP + 31) / 32) carry[t] = 0;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  uint run = 0;
-  for (int w = w0; w < w1; ++w) run ^= row_toggles[w];
-  if (popcount(run) & 1) atomic_or(&carry[t >> 5], 1u << (t & 31));
-  barrier(CLK_LOCAL_MEM_FENCE);
-
-  // Parity left of this run: the XOR of the runs of work-items 0 .. t - 1.
-  uint left = popcount(carry[t >> 5] & ((1u << (t & 31)) - 1u));
-  for (int k = 0; k < (t >> 5); ++k) left += popcount(carry[k]);
-  uint fill = (left & 1) ? 0xffffffffu : 0u;
-
+// Turns words [w0, w1) of row r into mask values; `fill` is all ones when the parity left of
+// word w0 is odd. Clears the words of both planes for the next scan.
+void RasterWords(__global uint* row_toggles, __global uint* row_occupied,
+                 __global uchar* row_update, int w0, int w1, uint fill) {
   for (int w = w0; w < w1; ++w) {
     uint x = row_toggles[w];
     const uint o = row_occupied[w];
@@ -126,15 +107,46 @@ __kernel void rasterize_rows(__global const int* job, __global uint* toggles,
     x ^= x << 16;
     x ^= fill;
     fill = (x >> 31) ? 0xffffffffu : 0u;
-    const int c0 = w * 32;
-    __global uchar* out = row_update + c0;
-    if (c0 + 32 <= WIDTH) {
-      vstore16(RasterExpand16(x, o), 0, out);
-      vstore16(RasterExpand16(x >> 16, o >> 16), 0, out + 16);
-    } else {
-      for (int b = 0; b < WIDTH - c0; ++b) {
-        out[b] = ((o >> b) & 1u) ? UPDATE_OCCUPIED : (((x >> b) & 1u) ? UPDATE_FREE : UPDATE_NONE);
-      }
-    }
+    // Whole aligned vectors: the padded row has room up to the next multiple of 32 columns.
+    __global uchar16* out = (__global uchar16*)(row_update + 32 * w);
+    out[0] = RasterExpand16(x, o, 32 * w);
+    out[1] = RasterExpand16(x >> 16, o >> 16, 32 * w + 16);
   }
 }
+
+#if RASTER_GROUP == 1
+// Global size (1, row count rounded up): work-item r rewrites row job[2] + r, left to right.
+__kernel void rasterize_rows(__global const int* job, __global uint* toggles,
+                             __global uint* occupied, __global uchar* update) {
+  const int r = job[2] + (int)get_global_id(1);
+  if (r >= job[3]) return;
+  RasterWords(toggles + r * RASTER_WORDS, occupied + r * RASTER_WORDS, update + CELL(r, 0), 0,
+              RASTER_WORDS, 0u);
+}
+#else
+// Global size (RASTER_GROUP, row count), local size (RASTER_GROUP, 1): work-group g rewrites
+// row job[2] + g. Work-item t owns a run of whole words; `carry` holds one bit per work-item,
+// the parity of its run, so each work-item knows the parity left of its run.
+__kernel void rasterize_rows(__global const int* job, __global uint* toggles,
+                             __global uint* occupied, __global uchar* update) {
+  __local uint carry[(RASTER_GROUP + 31) / 32];
+  const int t = get_local_id(0);
+  const int r = job[2] + (int)get_group_id(1);
+  const int w0 = min(t * RASTER_WORDS_PER_ITEM, RASTER_WORDS);
+  const int w1 = min(w0 + RASTER_WORDS_PER_ITEM, RASTER_WORDS);
+  __global uint* row_toggles = toggles + r * RASTER_WORDS;
+
+  if (t < (RASTER_GROUP + 31) / 32) carry[t] = 0;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  uint run = 0;
+  for (int w = w0; w < w1; ++w) run ^= row_toggles[w];
+  if (popcount(run) & 1) atomic_or(&carry[t >> 5], 1u << (t & 31));
+  barrier(CLK_LOCAL_MEM_FENCE);
+
+  // Parity left of this run: the XOR of the runs of work-items 0 .. t - 1.
+  uint left = popcount(carry[t >> 5] & ((1u << (t & 31)) - 1u));
+  for (int k = 0; k < (t >> 5); ++k) left += popcount(carry[k]);
+  RasterWords(row_toggles, occupied + r * RASTER_WORDS, update + CELL(r, 0), w0, w1,
+              (left & 1) ? 0xffffffffu : 0u);
+}
+#endif

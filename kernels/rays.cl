@@ -4,7 +4,7 @@
 // not depend on the order the rays run in; rays_fuse adds the deltas into the map once, clamps,
 // and clears the deltas for the next scan.
 //
-// Build options: WIDTH, HEIGHT, L_FREE, L_OCCUPIED, L_MIN, L_MAX.
+// Build options: L_FREE, L_OCCUPIED, L_MIN, L_MAX (and those of common.cl).
 //
 // The job buffer, written by the host each scan: job[0] ray count, job[1] origin column,
 // job[2] origin row, job[3] unused, then the end cells (col, row) of the rays. Origins and
@@ -22,7 +22,7 @@ __kernel void rays_cast(__global const int* job, __global int* delta) {
   while (true) {
     const bool end = x == x1 && y == y1;
     if (x >= 0 && x < WIDTH && y >= 0 && y < HEIGHT) {
-      atomic_add(&delta[y * WIDTH + x], end ? L_OCCUPIED : L_FREE);
+      atomic_add(&delta[CELL(y, x)], end ? L_OCCUPIED : L_FREE);
     }
     if (end) break;
     const int e2 = 2 * err;
@@ -37,11 +37,17 @@ __kernel void rays_cast(__global const int* job, __global int* delta) {
   }
 }
 
-// One work-item per cell of the contiguous range [first, first + count) (whole rows).
-__kernel void rays_fuse(__global short* map, __global int* delta, int first, int count) {
-  const int i = get_global_id(0);
-  if (i >= count) return;
-  const int k = first + i;
-  map[k] = (short)clamp((int)map[k] + delta[k], L_MIN, L_MAX);
-  delta[k] = 0;
+// Global size (row items, row_end - row_begin rounded up), as fuse.
+__kernel void rays_fuse(__global short* map, __global int* delta, int row_begin, int row_end) {
+  const int r = row_begin + (int)get_global_id(1);
+  int v0, v1;
+  if (r >= row_end || !RowVectors(&v0, &v1)) return;
+  for (int v = v0; v < v1; ++v) {
+    const int k = CELL(r, 16 * v);
+    __global short16* m = (__global short16*)(map + k);
+    __global int16* d = (__global int16*)(delta + k);
+    const int16 fused = clamp(convert_int16(*m) + *d, L_MIN, L_MAX);
+    *m = convert_short16(select((int16)(0), fused, InsideLanes(16 * v)));
+    *d = (int16)(0);
+  }
 }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <sstream>
@@ -31,11 +32,13 @@ opencl::Event Retained(cl_event event) {
   return opencl::Event(event);
 }
 
-// Preferred work-group sizes on the CPU (PoCL), all small enough for any GPU.
-constexpr std::size_t kGridColumns = 64;  // classify and shift rows of work-items
-constexpr std::size_t kCellGroup = 256;   // fuse, rays_fuse
-constexpr std::size_t kEdgeGroup = 16;    // rasterize_edges, rays_cast: uneven loop lengths
-constexpr std::size_t kCastGroup = 16;    // insight_cast
+// Work-group sizes. Kernels over cells run one work-item per row on a CPU (it loops over the
+// row's 16-cell vectors) and about one per vector elsewhere.
+constexpr std::size_t kCpuRowsPerGroup = 4;
+constexpr std::size_t kGpuGroup = 64;
+constexpr std::size_t kGpuRowGroup = 256;  // at most this many work-items for one row
+constexpr std::size_t kEdgeGroup = 16;     // rasterize_edges, rays_cast: uneven loop lengths
+constexpr std::size_t kCastGroup = 16;     // insight_cast
 constexpr std::size_t kCompactGroup = 256;
 constexpr std::size_t kMaxRasterGroup = 256;
 
@@ -44,14 +47,29 @@ constexpr std::size_t kInitialJobInts = 4 + 2 * 4096 + 8192;
 
 }  // namespace
 
-std::string OpenClBackend::BuildOptions(const KernelParams& p, int raster_group) {
+OpenClBackend::Layout OpenClBackend::MakeLayout(const KernelParams& p) {
+  // Room for the opening window and the +-1 of the hysteresis on every side; 16-aligned rows.
+  const int pad = std::max(p.opening_radius, 1);
+  Layout layout;
+  layout.pad_x = int(RoundUp(std::size_t(pad), 16));
+  layout.pad_y = pad;
+  layout.stride = layout.pad_x + int(RoundUp(RoundUp(std::size_t(p.width), 16) + pad, 16));
+  layout.cells = std::size_t(layout.stride) * std::size_t(p.height + 2 * pad);
+  return layout;
+}
+
+std::string OpenClBackend::BuildOptions(const KernelParams& p, int vectors_per_item,
+                                        int raster_group) {
+  const Layout layout = MakeLayout(p);
   std::ostringstream o;
-  o << "-cl-std=CL1.2 -DWIDTH=" << p.width << " -DHEIGHT=" << p.height << " -DL_FREE=(" << p.l_free
-    << ") -DL_OCCUPIED=(" << p.l_occupied << ") -DL_MIN=(" << p.l_min << ") -DL_MAX=(" << p.l_max
-    << ") -DT_LOW=(" << p.t_low << ") -DT_HIGH=(" << p.t_high
-    << ") -DOPENING_RADIUS=" << p.opening_radius << " -DFIXED_BITS=" << kFixedBits
-    << " -DUPDATE_NONE=" << int(kUpdateNone) << " -DUPDATE_FREE=" << int(kUpdateFree)
-    << " -DUPDATE_OCCUPIED=" << int(kUpdateOccupied) << " -DRASTER_GROUP=" << raster_group;
+  o << "-cl-std=CL1.2 -DWIDTH=" << p.width << " -DHEIGHT=" << p.height
+    << " -DPAD_X=" << layout.pad_x << " -DPAD_Y=" << layout.pad_y << " -DSTRIDE=" << layout.stride
+    << " -DVECTORS_PER_ITEM=" << vectors_per_item << " -DL_FREE=(" << p.l_free << ") -DL_OCCUPIED=("
+    << p.l_occupied << ") -DL_MIN=(" << p.l_min << ") -DL_MAX=(" << p.l_max << ") -DT_LOW=("
+    << p.t_low << ") -DT_HIGH=(" << p.t_high << ") -DOPENING_RADIUS=" << p.opening_radius
+    << " -DFIXED_BITS=" << kFixedBits << " -DUPDATE_NONE=" << int(kUpdateNone)
+    << " -DUPDATE_FREE=" << int(kUpdateFree) << " -DUPDATE_OCCUPIED=" << int(kUpdateOccupied)
+    << " -DRASTER_GROUP=" << raster_group;
   return o.str();
 }
 
@@ -70,40 +88,46 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   queue_.reset(clCreateCommandQueue(context, device, CL_QUEUE_PROFILING_ENABLE, &status));
   Check(status, "clCreateCommandQueue");
 
-  // One work-group per row in rasterize_rows: enough work-items for one word each, a power of
-  // two the device allows.
   std::size_t max_group = 1, max_items[3] = {1, 1, 1};
+  cl_device_type type = 0;
   Check(
       clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof max_group, &max_group, nullptr),
       "clGetDeviceInfo");
   Check(
       clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_ITEM_SIZES, sizeof max_items, max_items, nullptr),
       "clGetDeviceInfo");
+  Check(clGetDeviceInfo(device, CL_DEVICE_TYPE, sizeof type, &type, nullptr), "clGetDeviceInfo");
+  const bool cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
+
+  // A CPU runs a work-group's items one after the other, so it gets one work-item per row that
+  // loops over the row; a GPU gets about one work-item per 16-cell vector and, in
+  // rasterize_rows, one work-group per row with enough work-items for one 32-cell word each.
+  // Either way all work-items of a row are in one work-group (classify.cl relies on it).
+  layout_ = MakeLayout(params);
+  const std::size_t row_vectors = RoundUp(std::size_t(width), 16) / 16;
+  const std::size_t row_cap = std::min({kGpuRowGroup, max_group, max_items[0]});
+  vectors_per_item_ = cpu ? int(row_vectors) : int((row_vectors + row_cap - 1) / row_cap);
+  row_items_ = (row_vectors + vectors_per_item_ - 1) / vectors_per_item_;
   const std::size_t words = (std::size_t(width) + 31) / 32;
   const std::size_t raster_cap = std::min({kMaxRasterGroup, max_group, max_items[0]});
-  while (std::size_t(raster_group_) < words && std::size_t(raster_group_) * 2 <= raster_cap) {
+  while (!cpu && std::size_t(raster_group_) < words &&
+         std::size_t(raster_group_) * 2 <= raster_cap) {
     raster_group_ *= 2;
   }
-  program_ = device_->EmbeddedProgram(BuildOptions(params, raster_group_));
+  program_ = device_->EmbeddedProgram(BuildOptions(params, vectors_per_item_, raster_group_));
 
   rasterize_edges_ = MakeKernel("rasterize_edges");
   rasterize_rows_ = MakeKernel("rasterize_rows");
   insight_cast_ = MakeKernel("insight_cast");
   insight_compact_ = MakeKernel("insight_compact");
   rays_cast_ = MakeKernel("rays_cast");
-  erode_rows_ = MakeKernel("classify_erode_rows");
-  erode_cols_ = MakeKernel("classify_erode_cols");
-  dilate_rows_ = MakeKernel("classify_dilate_rows");
+  erode_dilate_ = MakeKernel("classify_erode_cols_dilate_rows");
   dilate_cols_ = MakeKernel("classify_dilate_cols");
   for (int k = 0; k < 2; ++k) {
     fuse_[k] = MakeKernel("fuse");
     rays_fuse_[k] = MakeKernel("rays_fuse");
-    hysteresis_[k] = MakeKernel("classify_hysteresis");
+    hysteresis_[k] = MakeKernel("classify_hysteresis_erode_rows");
     shift_[k] = MakeKernel("shift_map");
-  }
-  if (LocalSize(rasterize_rows_.get(), raster_group_) < std::size_t(raster_group_)) {
-    throw BackendError("backend opencl: rasterize_rows cannot run work-groups of " +
-                       std::to_string(raster_group_) + " on this device");
   }
 
   // Buffers.
@@ -114,31 +138,34 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     return mem;
   };
   const std::size_t labels = std::size_t(BorderLabelCount(height, width));
-  const std::size_t padded = std::size_t(width + 2 * h) * std::size_t(height + 2 * h);
+  const std::size_t padded = layout_.cells;
   const std::size_t bit_words = words * std::size_t(height);
-  for (opencl::Mem& map : map_) map = buffer(cells() * sizeof(LogOdds));
-  update_ = buffer(cells());
+  for (opencl::Mem& map : map_) map = buffer(padded * sizeof(LogOdds));
+  update_ = buffer(padded);
   toggles_ = buffer(bit_words * 4);
   occupied_ = buffer(bit_words * 4);
   pass_a_ = buffer(padded);
   pass_b_ = buffer(padded);
-  free_ = buffer(cells());
+  pass_c_ = buffer(padded);
+  free_ = buffer(padded);
   label_ = buffer(cells() * 4);
   stop_ = buffer(labels * 4);
   edges_ = buffer((labels + 1) * 4);
-  delta_ = buffer(cells() * 4);
+  delta_ = buffer(padded * 4);
   GrowJob(kInitialJobInts);
   edges_host_.assign(labels + 1, 0);
 
-  // Initial contents: the map unknown, the bit planes and the padded borders zero, T empty.
-  for (opencl::Mem& map : map_) Fill(map.get(), cells() * sizeof(LogOdds));
-  Fill(update_.get(), cells());
+  // Initial contents: every cell buffer zero (the map unknown, the padding zero for good), the
+  // bit planes zero, T empty.
+  for (opencl::Mem& map : map_) Fill(map.get(), padded * sizeof(LogOdds));
+  Fill(update_.get(), padded);
   Fill(toggles_.get(), bit_words * 4);
   Fill(occupied_.get(), bit_words * 4);
   Fill(pass_a_.get(), padded);
   Fill(pass_b_.get(), padded);
-  Fill(free_.get(), cells());
-  Fill(delta_.get(), cells() * 4);
+  Fill(pass_c_.get(), padded);
+  Fill(free_.get(), padded);
+  Fill(delta_.get(), padded * 4);
   const cl_int none = INT_MAX;
   Check(clEnqueueFillBuffer(queue_.get(), label_.get(), &none, sizeof none, 0, cells() * 4, 0,
                             nullptr, nullptr),
@@ -153,13 +180,10 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   SetArg(rows, 2, occupied_.get());
   SetArg(rows, 3, update_.get());
   SetArg(rays_cast_.get(), 1, delta_.get());
-  SetArg(erode_rows_.get(), 0, pass_a_.get());
-  SetArg(erode_rows_.get(), 1, pass_b_.get());
-  SetArg(erode_cols_.get(), 0, pass_b_.get());
-  SetArg(erode_cols_.get(), 1, pass_a_.get());
-  SetArg(dilate_rows_.get(), 0, pass_a_.get());
-  SetArg(dilate_rows_.get(), 1, pass_b_.get());
-  SetArg(dilate_cols_.get(), 0, pass_b_.get());
+  SetArg(erode_dilate_.get(), 0, pass_b_.get());
+  SetArg(erode_dilate_.get(), 1, pass_a_.get());
+  SetArg(erode_dilate_.get(), 2, pass_c_.get());
+  SetArg(dilate_cols_.get(), 0, pass_c_.get());
   SetArg(dilate_cols_.get(), 1, free_.get());
   SetArg(insight_cast_.get(), 0, free_.get());
   SetArg(insight_cast_.get(), 1, label_.get());
@@ -174,22 +198,38 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     SetArg(rays_fuse_[k].get(), 1, delta_.get());
     SetArg(hysteresis_[k].get(), 0, map_[k].get());
     SetArg(hysteresis_[k].get(), 1, pass_a_.get());
+    SetArg(hysteresis_[k].get(), 2, pass_b_.get());
     SetArg(shift_[k].get(), 0, map_[k].get());
     SetArg(shift_[k].get(), 1, map_[1 - k].get());
   }
 
   // Work sizes. Global sizes are rounded up to whole work-groups; the kernels skip the extra
   // work-items, so no size has to divide the map.
-  grid_local_[0] = LocalSize(erode_rows_.get(), kGridColumns);
-  for (const cl_kernel k : {erode_cols_.get(), dilate_rows_.get(), dilate_cols_.get(),
-                            hysteresis_[0].get(), shift_[0].get()}) {
-    grid_local_[0] = std::min(grid_local_[0], LocalSize(k, kGridColumns));
+  std::size_t most = max_group;
+  for (const cl_kernel k : {erode_dilate_.get(), dilate_cols_.get(), hysteresis_[0].get(),
+                            shift_[0].get(), fuse_[0].get(), rays_fuse_[0].get()}) {
+    most = std::min(most, LocalSize(k, max_group));
   }
-  grid_local_[0] = std::min(grid_local_[0], max_items[0]);
-  grid_global_[0] = RoundUp(std::size_t(width), grid_local_[0]);
-  grid_global_[1] = std::size_t(height);
-  cell_local_ =
-      std::min(LocalSize(fuse_[0].get(), kCellGroup), LocalSize(rays_fuse_[0].get(), kCellGroup));
+  if (row_items_ > most) {
+    throw BackendError("backend opencl: a row of " + std::to_string(width) +
+                       " cells needs work-groups of " + std::to_string(row_items_) +
+                       " work-items; the kernels allow " + std::to_string(most));
+  }
+  rows_local_[0] = row_items_;
+  rows_local_[1] = std::max<std::size_t>(
+      1,
+      std::min({cpu ? kCpuRowsPerGroup : kGpuGroup / row_items_, most / row_items_, max_items[1]}));
+  if (raster_group_ == 1) {
+    raster_local_[0] = 1;
+    raster_local_[1] = std::min(kCpuRowsPerGroup, LocalSize(rasterize_rows_.get(), max_group));
+  } else {
+    if (LocalSize(rasterize_rows_.get(), raster_group_) < std::size_t(raster_group_)) {
+      throw BackendError("backend opencl: rasterize_rows cannot run work-groups of " +
+                         std::to_string(raster_group_) + " on this device");
+    }
+    raster_local_[0] = std::size_t(raster_group_);
+    raster_local_[1] = 1;
+  }
   edge_local_ = std::min(LocalSize(rasterize_edges_.get(), kEdgeGroup),
                          LocalSize(rays_cast_.get(), kEdgeGroup));
   cast_local_ = LocalSize(insight_cast_.get(), kCastGroup);
@@ -290,10 +330,8 @@ void OpenClBackend::Rasterize(const RasterJob& job) {
     const std::size_t global = RoundUp(std::size_t(n + occupied), edge_local_);
     Launch(rasterize_edges_.get(), 1, &global, &edge_local_, nullptr);
   }
-  const std::size_t group = std::size_t(raster_group_);
-  const std::size_t global[2] = {group, std::size_t(r1 - r0)};
-  const std::size_t local[2] = {group, 1};
-  Launch(rasterize_rows_.get(), 2, global, local, end.out());
+  const std::size_t global[2] = {raster_local_[0], RoundUp(std::size_t(r1 - r0), raster_local_[1])};
+  Launch(rasterize_rows_.get(), 2, global, raster_local_, end.out());
   SetStage(kRasterStage, std::move(begin), std::move(end));
 }
 
@@ -301,12 +339,10 @@ void OpenClBackend::Fuse(int row_begin, int row_end) {
   const int r0 = std::max(row_begin, 0), r1 = std::min(row_end, params_.height);
   if (r0 >= r1) return;
   const cl_kernel kernel = fuse_[current_].get();
-  const cl_int first = r0 * params_.width, count = (r1 - r0) * params_.width;
-  SetArg(kernel, 2, first);
-  SetArg(kernel, 3, count);
-  const std::size_t global = RoundUp(std::size_t(count), cell_local_);
+  SetArg(kernel, 2, cl_int(r0));
+  SetArg(kernel, 3, cl_int(r1));
   opencl::Event event;
-  Launch(kernel, 1, &global, &cell_local_, event.out());
+  RowsLaunch(kernel, r1 - r0, event.out());
   opencl::Event again = Retained(event.get());
   SetStage(kFuseStage, std::move(event), std::move(again));
 }
@@ -326,23 +362,20 @@ void OpenClBackend::FuseRays(int row_begin, int row_end) {
   const int r0 = std::max(row_begin, 0), r1 = std::min(row_end, params_.height);
   if (r0 >= r1) return;
   const cl_kernel kernel = rays_fuse_[current_].get();
-  const cl_int first = r0 * params_.width, count = (r1 - r0) * params_.width;
-  SetArg(kernel, 2, first);
-  SetArg(kernel, 3, count);
-  const std::size_t global = RoundUp(std::size_t(count), cell_local_);
+  SetArg(kernel, 2, cl_int(r0));
+  SetArg(kernel, 3, cl_int(r1));
   opencl::Event event;
-  Launch(kernel, 1, &global, &cell_local_, event.out());
+  RowsLaunch(kernel, r1 - r0, event.out());
   opencl::Event again = Retained(event.get());
   SetStage(kFuseStage, std::move(event), std::move(again));
 }
 
 void OpenClBackend::Classify() {
   opencl::Event begin, end;
-  Launch(hysteresis_[current_].get(), 2, grid_global_, grid_local_, begin.out());
-  Launch(erode_rows_.get(), 2, grid_global_, grid_local_, nullptr);
-  Launch(erode_cols_.get(), 2, grid_global_, grid_local_, nullptr);
-  Launch(dilate_rows_.get(), 2, grid_global_, grid_local_, nullptr);
-  Launch(dilate_cols_.get(), 2, grid_global_, grid_local_, end.out());
+  const int height = params_.height;
+  RowsLaunch(hysteresis_[current_].get(), height, begin.out());
+  RowsLaunch(erode_dilate_.get(), height, nullptr);
+  RowsLaunch(dilate_cols_.get(), height, end.out());
   SetStage(kClassifyStage, std::move(begin), std::move(end));
 }
 
@@ -367,19 +400,19 @@ void OpenClBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
 void OpenClBackend::Shift(int dx, int dy) {
   if (dx == 0 && dy == 0) return;
   if (std::abs(dx) >= params_.width || std::abs(dy) >= params_.height) {
-    Fill(map_[current_].get(), cells() * sizeof(LogOdds));
+    Fill(map_[current_].get(), layout_.cells * sizeof(LogOdds));
     return;
   }
   const cl_kernel kernel = shift_[current_].get();
   SetArg(kernel, 2, cl_int(dx));
   SetArg(kernel, 3, cl_int(dy));
-  Launch(kernel, 2, grid_global_, grid_local_, nullptr);
+  RowsLaunch(kernel, params_.height, nullptr);
   current_ = 1 - current_;
 }
 
 void OpenClBackend::Clear() {
-  Fill(map_[current_].get(), cells() * sizeof(LogOdds));
-  Fill(free_.get(), cells());
+  Fill(map_[current_].get(), layout_.cells * sizeof(LogOdds));
+  Fill(free_.get(), layout_.cells);
 }
 
 void OpenClBackend::Finish() { Check(clFinish(queue_.get()), "clFinish"); }
@@ -390,29 +423,48 @@ void OpenClBackend::Fill(cl_mem buffer, std::size_t bytes) {
         "clEnqueueFillBuffer");
 }
 
-void OpenClBackend::Read(cl_mem buffer, std::size_t bytes, void* dst) {
-  Check(clEnqueueReadBuffer(queue_.get(), buffer, CL_TRUE, 0, bytes, dst, 0, nullptr, nullptr),
-        "clEnqueueReadBuffer");
+void OpenClBackend::RowsLaunch(cl_kernel kernel, int rows, cl_event* event) {
+  const std::size_t global[2] = {row_items_, RoundUp(std::size_t(rows), rows_local_[1])};
+  Launch(kernel, 2, global, rows_local_, event);
 }
 
-void OpenClBackend::Write(cl_mem buffer, std::size_t bytes, const void* src) {
-  Check(clEnqueueWriteBuffer(queue_.get(), buffer, CL_TRUE, 0, bytes, src, 0, nullptr, nullptr),
-        "clEnqueueWriteBuffer");
+void OpenClBackend::ReadCells(cl_mem buffer, std::size_t element, void* dst) {
+  const std::size_t origin[3] = {std::size_t(layout_.pad_x) * element, std::size_t(layout_.pad_y),
+                                 0};
+  const std::size_t host_origin[3] = {0, 0, 0};
+  const std::size_t region[3] = {std::size_t(params_.width) * element, std::size_t(params_.height),
+                                 1};
+  Check(clEnqueueReadBufferRect(queue_.get(), buffer, CL_TRUE, origin, host_origin, region,
+                                std::size_t(layout_.stride) * element, 0, region[0], 0, dst, 0,
+                                nullptr, nullptr),
+        "clEnqueueReadBufferRect");
+}
+
+void OpenClBackend::WriteCells(cl_mem buffer, std::size_t element, const void* src) {
+  const std::size_t origin[3] = {std::size_t(layout_.pad_x) * element, std::size_t(layout_.pad_y),
+                                 0};
+  const std::size_t host_origin[3] = {0, 0, 0};
+  const std::size_t region[3] = {std::size_t(params_.width) * element, std::size_t(params_.height),
+                                 1};
+  Check(clEnqueueWriteBufferRect(queue_.get(), buffer, CL_TRUE, origin, host_origin, region,
+                                 std::size_t(layout_.stride) * element, 0, region[0], 0, src, 0,
+                                 nullptr, nullptr),
+        "clEnqueueWriteBufferRect");
 }
 
 void OpenClBackend::ReadLogOdds(LogOdds* dst) {
-  Read(map_[current_].get(), cells() * sizeof(LogOdds), dst);
+  ReadCells(map_[current_].get(), sizeof(LogOdds), dst);
 }
 void OpenClBackend::WriteLogOdds(const LogOdds* src) {
-  Write(map_[current_].get(), cells() * sizeof(LogOdds), src);
+  WriteCells(map_[current_].get(), sizeof(LogOdds), src);
 }
-void OpenClBackend::ReadUpdateMask(std::uint8_t* dst) { Read(update_.get(), cells(), dst); }
-void OpenClBackend::WriteUpdateMask(const std::uint8_t* src) { Write(update_.get(), cells(), src); }
-void OpenClBackend::ReadFree(std::uint8_t* dst) { Read(free_.get(), cells(), dst); }
+void OpenClBackend::ReadUpdateMask(std::uint8_t* dst) { ReadCells(update_.get(), 1, dst); }
+void OpenClBackend::WriteUpdateMask(const std::uint8_t* src) { WriteCells(update_.get(), 1, src); }
+void OpenClBackend::ReadFree(std::uint8_t* dst) { ReadCells(free_.get(), 1, dst); }
 void OpenClBackend::ReadRayDelta(std::int32_t* dst) {
-  Read(delta_.get(), cells() * sizeof(std::int32_t), dst);
+  ReadCells(delta_.get(), sizeof(std::int32_t), dst);
 }
-void OpenClBackend::WriteFree(const std::uint8_t* src) { Write(free_.get(), cells(), src); }
+void OpenClBackend::WriteFree(const std::uint8_t* src) { WriteCells(free_.get(), 1, src); }
 
 bool OpenClBackend::KernelTimes(StageTimes* times) const {
   double* fields[kStageCount] = {&times->rasterize_us, &times->fuse_us, &times->classify_us,

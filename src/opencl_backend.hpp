@@ -46,13 +46,25 @@ class OpenClBackend final : public Backend {
 
   // Device times from OpenCL event profiling, each from the start of a stage's first command to
   // the end of its last: rasterize_us = job upload + rasterize kernels (or ray upload + rays_cast
-  // for the conventional model), fuse_us = fuse (or rays_fuse), classify_us = the five
+  // for the conventional model), fuse_us = fuse (or rays_fuse), classify_us = the three
   // classify kernels, insight_us = insight kernels + reading C_Edge back. Each measurement is
   // reported once; stages that did not run since the last call keep the caller's values.
   bool KernelTimes(StageTimes* times) const override;
 
-  // The -D build options of the kernels for `params` (the program cache's key).
-  static std::string BuildOptions(const KernelParams& params, int raster_group);
+  // The padded cell layout of the device buffers (kernels/common.cl): PAD_Y zero rows above
+  // and below the map, PAD_X zero columns left of it, rows `stride` cells apart.
+  struct Layout {
+    int pad_x = 0;
+    int pad_y = 0;
+    int stride = 0;
+    std::size_t cells = 0;  // stride * (height + 2 pad_y)
+  };
+  static Layout MakeLayout(const KernelParams& params);
+
+  // The -D build options of the kernels (the program cache's key). `vectors_per_item`: 16-cell
+  // vectors of a row per work-item; `raster_group`: work-group size of rasterize_rows.
+  static std::string BuildOptions(const KernelParams& params, int vectors_per_item,
+                                  int raster_group);
 
  private:
   enum Stage { kRasterStage, kFuseStage, kClassifyStage, kInSightStage, kStageCount };
@@ -68,25 +80,33 @@ class OpenClBackend final : public Backend {
               const std::int32_t* b, std::size_t b_count, opencl::Event* event);
   void GrowJob(std::size_t ints);
   void Fill(cl_mem buffer, std::size_t bytes);
-  void Read(cl_mem buffer, std::size_t bytes, void* dst);
-  void Write(cl_mem buffer, std::size_t bytes, const void* src);
+  // Copies the map's cells of a padded buffer of `element`-byte cells to or from host memory
+  // (width * height elements, row-major).
+  void ReadCells(cl_mem buffer, std::size_t element, void* dst);
+  void WriteCells(cl_mem buffer, std::size_t element, const void* src);
+  // Global and local sizes of a kernel over `rows` rows of 16-cell vectors.
+  void RowsLaunch(cl_kernel kernel, int rows, cl_event* event);
   void SetStage(Stage stage, opencl::Event begin, opencl::Event end);
 
   std::shared_ptr<opencl::DeviceContext> device_;
   std::string name_;
   opencl::Queue queue_;
   cl_program program_ = nullptr;  // owned by device_'s cache
+  Layout layout_;
+  int vectors_per_item_ = 1;
   int raster_group_ = 1;
 
-  // Device buffers. The map lives in map_[current_]; the shift writes the other one and flips
-  // current_. Kernels that touch the map exist once per buffer, so no argument is re-set.
+  // Device buffers, per-cell ones in the padded layout. The map lives in map_[current_]; the
+  // shift writes the other one and flips current_. Kernels that touch the map exist once per
+  // buffer, so no argument is re-set.
   opencl::Mem map_[2];
   int current_ = 0;
   opencl::Mem update_;            // stage 1 -> stage 2, uchar per cell
   opencl::Mem toggles_;           // stage 1 bit planes, one bit per cell, rows of whole words
   opencl::Mem occupied_;          //
-  opencl::Mem pass_a_;            // stage 3 intermediates, padded by the opening radius
+  opencl::Mem pass_a_;            // stage 3 intermediates
   opencl::Mem pass_b_;            //
+  opencl::Mem pass_c_;            //
   opencl::Mem free_;              // stage 3 output, stage 4 input
   opencl::Mem label_;             // stage 4: T, smallest label per stop cell (INT_MAX = none)
   opencl::Mem stop_;              // stage 4: stop cell per label
@@ -96,13 +116,13 @@ class OpenClBackend final : public Backend {
   std::size_t job_capacity_ = 0;  // ints
 
   opencl::Kernel rasterize_edges_, rasterize_rows_, insight_cast_, insight_compact_, rays_cast_;
-  opencl::Kernel erode_rows_, erode_cols_, dilate_rows_, dilate_cols_;
+  opencl::Kernel erode_dilate_, dilate_cols_;
   std::array<opencl::Kernel, 2> fuse_, rays_fuse_, hysteresis_, shift_;  // per map buffer
 
   // Work sizes, fixed at construction.
-  std::size_t grid_local_[2] = {1, 1};            // classify and shift: (columns, 1)
-  std::size_t grid_global_[2] = {1, 1};           // (width rounded up, height)
-  std::size_t cell_local_ = 1;                    // fuse, rays_fuse
+  std::size_t row_items_ = 1;                     // work-items per row of kernels over cells
+  std::size_t rows_local_[2] = {1, 1};            // their work-group
+  std::size_t raster_local_[2] = {1, 1};          // rasterize_rows
   std::size_t edge_local_ = 1;                    // rasterize_edges, rays_cast
   std::size_t cast_local_ = 1, cast_global_ = 1;  // insight_cast
   std::size_t compact_size_ = 1;                  // insight_compact: one work-group
