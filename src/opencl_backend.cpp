@@ -73,7 +73,8 @@ std::string OpenClBackend::BuildOptions(const KernelParams& p, int vectors_per_i
   return o.str();
 }
 
-OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& config)
+OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& config,
+                             WorkShape shape)
     : Backend(params),
       device_(opencl::DeviceContext::Get(opencl::ChooseDevice(config))),
       name_("opencl: " + device_->choice().device_name) {
@@ -97,7 +98,8 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
       clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_ITEM_SIZES, sizeof max_items, max_items, nullptr),
       "clGetDeviceInfo");
   Check(clGetDeviceInfo(device, CL_DEVICE_TYPE, sizeof type, &type, nullptr), "clGetDeviceInfo");
-  const bool cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
+  const bool cpu = shape == WorkShape::kDevice ? (type & CL_DEVICE_TYPE_CPU) != 0
+                                               : shape == WorkShape::kRowPerItem;
 
   // A CPU runs a work-group's items one after the other, so it gets one work-item per row that
   // loops over the row; a GPU gets about one work-item per 16-cell vector and, in

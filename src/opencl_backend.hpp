@@ -17,10 +17,16 @@ namespace freespace {
 
 class OpenClBackend final : public Backend {
  public:
+  // How kernels over cells split the map: as suits the device (one work-item per row on a CPU,
+  // about one per 16-cell vector, with work-groups per row in rasterize_rows, elsewhere), or one
+  // of the two forced, so that the tests run the GPU shape on a CPU device too.
+  enum class WorkShape { kDevice, kRowPerItem, kVectorPerItem };
+
   // Chooses the device (BackendConfig::opencl_platform / opencl_device, overridden by
   // FREESPACE_OPENCL_PLATFORM / FREESPACE_OPENCL_DEVICE), builds the kernels for `params` (or
   // takes them from the cache) and allocates every buffer. Throws BackendError.
-  OpenClBackend(const KernelParams& params, const BackendConfig& config);
+  OpenClBackend(const KernelParams& params, const BackendConfig& config,
+                WorkShape shape = WorkShape::kDevice);
   ~OpenClBackend() override;
 
   // "opencl: <device name>".
