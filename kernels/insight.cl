@@ -32,22 +32,25 @@ __kernel void insight_cast(__global const uchar* free, __global int* label, __gl
   const int x0 = vehicle_col, y0 = vehicle_row, x1 = target.x, y1 = target.y;
   const int dx = (int)abs(x1 - x0), sx = x0 < x1 ? 1 : -1;
   const int dy = -(int)abs(y1 - y0), sy = y0 < y1 ? 1 : -1;
+  // host::CastRay's loop, stepped by padded index: every step advances the major axis by one
+  // cell, so the ray reaches the border cell after max(dx, -dy) steps; it stops earlier at the
+  // first not-free cell after the vehicle's own.
+  const int steps = max(dx, -dy);
   int err = dx + dy;
-  int x = x0, y = y0;
-  while (true) {
-    if ((x != x0 || y != y0) && !free[CELL(y, x)]) break;
-    if (x == x1 && y == y1) break;
+  int k = CELL(y0, x0);
+  for (int s = 0; s < steps; ++s) {
     const int e2 = 2 * err;
     if (e2 >= dy) {
       err += dy;
-      x += sx;
+      k += sx;
     }
     if (e2 <= dx) {
       err += dx;
-      y += sy;
+      k += sy * STRIDE;
     }
+    if (!free[k]) break;
   }
-  const int cell = y * WIDTH + x;
+  const int cell = (k / STRIDE - PAD_Y) * WIDTH + k % STRIDE - PAD_X;
   stop[l] = cell;
   atomic_min(&label[cell], l);
 }

@@ -12,8 +12,11 @@
 // (RASTER_GROUP 1), one work-group per row elsewhere. Bits make the prefix XOR a few word
 // operations and let edges meet in any order (XOR commutes).
 //
-// Build options: FIXED_BITS, UPDATE_NONE, UPDATE_FREE, UPDATE_OCCUPIED, RASTER_GROUP (a power
-// of two up to 256), and those of common.cl.
+// rasterize_rows_fuse does the row pass and kernel stage 2 (fuse.cl) together, reading and
+// writing each row once.
+//
+// Build options: FIXED_BITS, UPDATE_NONE, UPDATE_FREE, UPDATE_OCCUPIED, L_FREE, L_OCCUPIED,
+// L_MIN, L_MAX, RASTER_GROUP (a power of two up to 256), and those of common.cl.
 //
 // The job buffer, written by the host each scan: job[0] vertex count n, job[1] occupied count,
 // job[2] first row, job[3] end row (both clipped to the map and non-empty), then the n vertices
@@ -23,6 +26,7 @@
 #define RASTER_FIXED_ONE (1L << FIXED_BITS)
 #define RASTER_FIXED_HALF (RASTER_FIXED_ONE / 2)
 #define RASTER_WORDS_PER_ITEM ((RASTER_WORDS + RASTER_GROUP - 1) / RASTER_GROUP)
+#define RASTER_CARRY ((RASTER_GROUP + 31) / 32)
 
 // floor(a / b) for b > 0.
 long RasterFloorDiv(long a, long b) {
@@ -30,20 +34,13 @@ long RasterFloorDiv(long a, long b) {
   return (a % b != 0 && a < 0) ? q - 1 : q;
 }
 
-// The column whose parity the edge (x0, y0) -> (x1, y1) toggles on the centre line yc, or
-// WIDTH when the crossing is right of every centre in the row. The crossing is
-// x = x0 + (yc - y0) * (x1 - x0) / (y1 - y0); the first column c with centre 256 c + 128 > x
-// is floor((x - 128) / 256) + 1.
-long RasterCrossingColumn(long x0, long y0, long x1, long y1, long yc) {
-  long num = (x0 - RASTER_FIXED_HALF) * (y1 - y0) + (yc - y0) * (x1 - x0);
-  long den = (y1 - y0) * RASTER_FIXED_ONE;
-  if (den < 0) {
-    num = -num;
-    den = -den;
-  }
-  return clamp(RasterFloorDiv(num, den) + 1, 0L, (long)WIDTH);
-}
-
+// The edge (x0, y0) -> (x1, y1) crosses the centre line yc = 256 r + 128 of row r at
+// x = x0 + (yc - y0) * (x1 - x0) / (y1 - y0); the first column whose centre 256 c + 128 lies
+// right of it is c = floor((x - 128) / 256) + 1 = floor(num / den) + 1 with
+//   num = (x0 - 128) * (y1 - y0) + (yc - y0) * (x1 - x0),  den = (y1 - y0) * 256,
+// signs flipped so that den > 0 (host/rasterize.cpp, CrossingColumn). From one row to the next
+// num grows by 256 (x1 - x0), so the kernel steps the quotient and remainder of that division
+// instead of dividing per row: the same integers, two divisions per edge.
 __kernel void rasterize_edges(__global const int* job, __global uint* toggles,
                               __global uint* occupied, __global uchar* update) {
   const int i = get_global_id(0);
@@ -60,10 +57,24 @@ __kernel void rasterize_edges(__global const int* job, __global uint* toggles,
         RasterFloorDiv(ylo - RASTER_FIXED_HALF + RASTER_FIXED_ONE - 1, RASTER_FIXED_ONE), (long)r0);
     const long rb = min(
         RasterFloorDiv(yhi - RASTER_FIXED_HALF + RASTER_FIXED_ONE - 1, RASTER_FIXED_ONE), (long)r1);
+    if (ra >= rb) return;
+    const long sign = y1 > y0 ? 1 : -1;
+    const long den = sign * (y1 - y0) * RASTER_FIXED_ONE;
+    const long num = sign * ((x0 - RASTER_FIXED_HALF) * (y1 - y0) +
+                             (ra * RASTER_FIXED_ONE + RASTER_FIXED_HALF - y0) * (x1 - x0));
+    const long step = sign * RASTER_FIXED_ONE * (x1 - x0);
+    long q = RasterFloorDiv(num, den), rem = num - q * den;
+    const long step_q = RasterFloorDiv(step, den), step_rem = step - step_q * den;
     for (long r = ra; r < rb; ++r) {
-      const long k = RasterCrossingColumn(x0, y0, x1, y1, r * RASTER_FIXED_ONE + RASTER_FIXED_HALF);
+      const long k = clamp(q + 1, 0L, (long)WIDTH);
       if (k < WIDTH) {
         atomic_xor(&toggles[r * RASTER_WORDS + (k >> 5)], 1u << (uint)(k & 31));
+      }
+      q += step_q;
+      rem += step_rem;
+      if (rem >= den) {
+        rem -= den;
+        ++q;
       }
     }
   } else if (i < n + occupied_count) {
@@ -90,10 +101,22 @@ uchar16 RasterExpand16(uint parity, uint occupied, int c0) {
   return convert_uchar16(select((uint16)(0), value, InsideLanes(c0)));
 }
 
-// Turns words [w0, w1) of row r into mask values; `fill` is all ones when the parity left of
-// word w0 is odd. Clears the words of both planes for the next scan.
+// Kernel stage 2 folded into the row pass (fuse.cl's arithmetic): the map's 16 cells where the
+// mask vector `u` was just written.
+void RasterFuse16(__global short* map, uchar16 u, int c0) {
+  const int16 value = convert_int16(u);
+  const int16 delta = select(select((int16)(0), (int16)(L_OCCUPIED), value == UPDATE_OCCUPIED),
+                             (int16)(L_FREE), value == UPDATE_FREE);
+  __global short16* m = (__global short16*)map;
+  const int16 fused = clamp(convert_int16(*m) + delta, L_MIN, L_MAX);
+  *m = convert_short16(select((int16)(0), fused, InsideLanes(c0)));
+}
+
+// Turns words [w0, w1) of a row into mask values; `fill` is all ones when the parity left of
+// word w0 is odd. Clears the words of both planes for the next scan. With a row of the map
+// (`row_map` not null) it also fuses the new values into it.
 void RasterWords(__global uint* row_toggles, __global uint* row_occupied,
-                 __global uchar* row_update, int w0, int w1, uint fill) {
+                 __global uchar* row_update, __global short* row_map, int w0, int w1, uint fill) {
   for (int w = w0; w < w1; ++w) {
     uint x = row_toggles[w];
     const uint o = row_occupied[w];
@@ -108,35 +131,38 @@ void RasterWords(__global uint* row_toggles, __global uint* row_occupied,
     x ^= fill;
     fill = (x >> 31) ? 0xffffffffu : 0u;
     // Whole aligned vectors: the padded row has room up to the next multiple of 32 columns.
-    __global uchar16* out = (__global uchar16*)(row_update + 32 * w);
-    out[0] = RasterExpand16(x, o, 32 * w);
-    out[1] = RasterExpand16(x >> 16, o >> 16, 32 * w + 16);
+    const int c0 = 32 * w;
+    const uchar16 lo = RasterExpand16(x, o, c0), hi = RasterExpand16(x >> 16, o >> 16, c0 + 16);
+    __global uchar16* out = (__global uchar16*)(row_update + c0);
+    out[0] = lo;
+    out[1] = hi;
+    if (row_map) {
+      RasterFuse16(row_map + c0, lo, c0);
+      RasterFuse16(row_map + c0 + 16, hi, c0 + 16);
+    }
   }
 }
 
+// Rewrites row r's mask (and fuses it into `map` unless null). On a CPU (RASTER_GROUP 1) one
+// work-item does the row left to right. Elsewhere a work-group of RASTER_GROUP work-items does
+// it: work-item t owns a run of whole words, and `carry` holds one bit per work-item, the
+// parity of its run, so that each knows the parity left of its run (RASTER_CARRY words of
+// local memory, declared by the kernel).
+void RasterRow(__global const int* job, __global uint* toggles, __global uint* occupied,
+               __global uchar* update, __global short* map, __local uint* carry) {
 #if RASTER_GROUP == 1
-// Global size (1, row count rounded up): work-item r rewrites row job[2] + r, left to right.
-__kernel void rasterize_rows(__global const int* job, __global uint* toggles,
-                             __global uint* occupied, __global uchar* update) {
   const int r = job[2] + (int)get_global_id(1);
   if (r >= job[3]) return;
-  RasterWords(toggles + r * RASTER_WORDS, occupied + r * RASTER_WORDS, update + CELL(r, 0), 0,
-              RASTER_WORDS, 0u);
-}
+  RasterWords(toggles + r * RASTER_WORDS, occupied + r * RASTER_WORDS, update + CELL(r, 0),
+              map ? map + CELL(r, 0) : 0, 0, RASTER_WORDS, 0u);
 #else
-// Global size (RASTER_GROUP, row count), local size (RASTER_GROUP, 1): work-group g rewrites
-// row job[2] + g. Work-item t owns a run of whole words; `carry` holds one bit per work-item,
-// the parity of its run, so each work-item knows the parity left of its run.
-__kernel void rasterize_rows(__global const int* job, __global uint* toggles,
-                             __global uint* occupied, __global uchar* update) {
-  __local uint carry[(RASTER_GROUP + 31) / 32];
   const int t = get_local_id(0);
   const int r = job[2] + (int)get_group_id(1);
   const int w0 = min(t * RASTER_WORDS_PER_ITEM, RASTER_WORDS);
   const int w1 = min(w0 + RASTER_WORDS_PER_ITEM, RASTER_WORDS);
   __global uint* row_toggles = toggles + r * RASTER_WORDS;
 
-  if (t < (RASTER_GROUP + 31) / 32) carry[t] = 0;
+  if (t < RASTER_CARRY) carry[t] = 0;
   barrier(CLK_LOCAL_MEM_FENCE);
   uint run = 0;
   for (int w = w0; w < w1; ++w) run ^= row_toggles[w];
@@ -146,7 +172,24 @@ __kernel void rasterize_rows(__global const int* job, __global uint* toggles,
   // Parity left of this run: the XOR of the runs of work-items 0 .. t - 1.
   uint left = popcount(carry[t >> 5] & ((1u << (t & 31)) - 1u));
   for (int k = 0; k < (t >> 5); ++k) left += popcount(carry[k]);
-  RasterWords(row_toggles, occupied + r * RASTER_WORDS, update + CELL(r, 0), w0, w1,
-              (left & 1) ? 0xffffffffu : 0u);
-}
+  RasterWords(row_toggles, occupied + r * RASTER_WORDS, update + CELL(r, 0),
+              map ? map + CELL(r, 0) : 0, w0, w1, (left & 1) ? 0xffffffffu : 0u);
 #endif
+}
+
+// Global size (1, row count rounded up to the work-group) on a CPU, (RASTER_GROUP, row count)
+// elsewhere; rows job[2] .. job[3] - 1.
+__kernel void rasterize_rows(__global const int* job, __global uint* toggles,
+                             __global uint* occupied, __global uchar* update) {
+  __local uint carry[RASTER_CARRY];
+  RasterRow(job, toggles, occupied, update, 0, carry);
+}
+
+// rasterize_rows and kernel stage 2 in one pass over the rows, for a Fuse() of exactly the rows
+// just rasterized (src/opencl_backend.cpp defers the row pass for it).
+__kernel void rasterize_rows_fuse(__global const int* job, __global uint* toggles,
+                                  __global uint* occupied, __global uchar* update,
+                                  __global short* map) {
+  __local uint carry[RASTER_CARRY];
+  RasterRow(job, toggles, occupied, update, map, carry);
+}

@@ -130,6 +130,7 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     rays_fuse_[k] = MakeKernel("rays_fuse");
     hysteresis_[k] = MakeKernel("classify_hysteresis_erode_rows");
     shift_[k] = MakeKernel("shift_map");
+    rows_fuse_[k] = MakeKernel("rasterize_rows_fuse");
   }
 
   // Buffers.
@@ -201,6 +202,10 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     SetArg(hysteresis_[k].get(), 0, map_[k].get());
     SetArg(hysteresis_[k].get(), 1, pass_a_.get());
     SetArg(hysteresis_[k].get(), 2, pass_b_.get());
+    SetArg(rows_fuse_[k].get(), 1, toggles_.get());
+    SetArg(rows_fuse_[k].get(), 2, occupied_.get());
+    SetArg(rows_fuse_[k].get(), 3, update_.get());
+    SetArg(rows_fuse_[k].get(), 4, map_[k].get());
     SetArg(shift_[k].get(), 0, map_[k].get());
     SetArg(shift_[k].get(), 1, map_[1 - k].get());
   }
@@ -293,6 +298,7 @@ void OpenClBackend::GrowJob(std::size_t ints) {
   SetArg(rasterize_edges_.get(), 0, job_.get());
   SetArg(rasterize_rows_.get(), 0, job_.get());
   SetArg(rays_cast_.get(), 0, job_.get());
+  for (const opencl::Kernel& k : rows_fuse_) SetArg(k.get(), 0, job_.get());
 }
 
 void OpenClBackend::Upload(const std::int32_t (&header)[4], const std::int32_t* a,
@@ -321,6 +327,7 @@ void OpenClBackend::SetStage(Stage stage, opencl::Event begin, opencl::Event end
 }
 
 void OpenClBackend::Rasterize(const RasterJob& job) {
+  FlushRows();
   const int r0 = std::max(job.row_begin, 0);
   const int r1 = std::min(job.row_end, params_.height);
   if (r0 >= r1) return;
@@ -330,15 +337,37 @@ void OpenClBackend::Rasterize(const RasterJob& job) {
   Upload(header, job.vertices, 2 * std::size_t(n), job.occupied, std::size_t(occupied), &begin);
   if (n + occupied > 0) {
     const std::size_t global = RoundUp(std::size_t(n + occupied), edge_local_);
-    Launch(rasterize_edges_.get(), 1, &global, &edge_local_, nullptr);
+    Launch(rasterize_edges_.get(), 1, &global, &edge_local_, end.out());
+  } else {
+    end = Retained(begin.get());
   }
-  const std::size_t global[2] = {raster_local_[0], RoundUp(std::size_t(r1 - r0), raster_local_[1])};
-  Launch(rasterize_rows_.get(), 2, global, raster_local_, end.out());
   SetStage(kRasterStage, std::move(begin), std::move(end));
+  rows_pending_ = true;
+  pending_begin_ = r0;
+  pending_end_ = r1;
+}
+
+void OpenClBackend::FlushRows() {
+  if (!rows_pending_) return;
+  rows_pending_ = false;
+  const std::size_t global[2] = {
+      raster_local_[0], RoundUp(std::size_t(pending_end_ - pending_begin_), raster_local_[1])};
+  Launch(rasterize_rows_.get(), 2, global, raster_local_, end_[kRasterStage].out());
 }
 
 void OpenClBackend::Fuse(int row_begin, int row_end) {
   const int r0 = std::max(row_begin, 0), r1 = std::min(row_end, params_.height);
+  if (rows_pending_ && r0 == pending_begin_ && r1 == pending_end_) {
+    rows_pending_ = false;
+    const std::size_t global[2] = {raster_local_[0],
+                                   RoundUp(std::size_t(r1 - r0), raster_local_[1])};
+    opencl::Event event;
+    Launch(rows_fuse_[current_].get(), 2, global, raster_local_, event.out());
+    opencl::Event again = Retained(event.get());
+    SetStage(kFuseStage, std::move(event), std::move(again));
+    return;
+  }
+  FlushRows();
   if (r0 >= r1) return;
   const cl_kernel kernel = fuse_[current_].get();
   SetArg(kernel, 2, cl_int(r0));
@@ -350,6 +379,7 @@ void OpenClBackend::Fuse(int row_begin, int row_end) {
 }
 
 void OpenClBackend::CastRays(const RayJob& job) {
+  FlushRows();
   const int n = std::max(job.ray_count, 0);
   if (n == 0) return;
   const std::int32_t header[4] = {n, job.origin_col, job.origin_row, 0};
@@ -361,6 +391,7 @@ void OpenClBackend::CastRays(const RayJob& job) {
 }
 
 void OpenClBackend::FuseRays(int row_begin, int row_end) {
+  FlushRows();
   const int r0 = std::max(row_begin, 0), r1 = std::min(row_end, params_.height);
   if (r0 >= r1) return;
   const cl_kernel kernel = rays_fuse_[current_].get();
@@ -373,6 +404,7 @@ void OpenClBackend::FuseRays(int row_begin, int row_end) {
 }
 
 void OpenClBackend::Classify() {
+  FlushRows();
   opencl::Event begin, end;
   const int height = params_.height;
   RowsLaunch(hysteresis_[current_].get(), height, begin.out());
@@ -382,6 +414,7 @@ void OpenClBackend::Classify() {
 }
 
 void OpenClBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
+  FlushRows();
   const cl_kernel cast = insight_cast_.get();
   SetArg(cast, 3, cl_int(vehicle.col));
   SetArg(cast, 4, cl_int(vehicle.row));
@@ -400,6 +433,7 @@ void OpenClBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
 }
 
 void OpenClBackend::Shift(int dx, int dy) {
+  FlushRows();
   if (dx == 0 && dy == 0) return;
   if (std::abs(dx) >= params_.width || std::abs(dy) >= params_.height) {
     Fill(map_[current_].get(), layout_.cells * sizeof(LogOdds));
@@ -413,11 +447,15 @@ void OpenClBackend::Shift(int dx, int dy) {
 }
 
 void OpenClBackend::Clear() {
+  FlushRows();
   Fill(map_[current_].get(), layout_.cells * sizeof(LogOdds));
   Fill(free_.get(), layout_.cells);
 }
 
-void OpenClBackend::Finish() { Check(clFinish(queue_.get()), "clFinish"); }
+void OpenClBackend::Finish() {
+  FlushRows();
+  Check(clFinish(queue_.get()), "clFinish");
+}
 
 void OpenClBackend::Fill(cl_mem buffer, std::size_t bytes) {
   const cl_uchar zero = 0;
@@ -431,6 +469,7 @@ void OpenClBackend::RowsLaunch(cl_kernel kernel, int rows, cl_event* event) {
 }
 
 void OpenClBackend::ReadCells(cl_mem buffer, std::size_t element, void* dst) {
+  FlushRows();
   const std::size_t origin[3] = {std::size_t(layout_.pad_x) * element, std::size_t(layout_.pad_y),
                                  0};
   const std::size_t host_origin[3] = {0, 0, 0};
@@ -443,6 +482,7 @@ void OpenClBackend::ReadCells(cl_mem buffer, std::size_t element, void* dst) {
 }
 
 void OpenClBackend::WriteCells(cl_mem buffer, std::size_t element, const void* src) {
+  FlushRows();
   const std::size_t origin[3] = {std::size_t(layout_.pad_x) * element, std::size_t(layout_.pad_y),
                                  0};
   const std::size_t host_origin[3] = {0, 0, 0};

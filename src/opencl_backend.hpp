@@ -51,10 +51,12 @@ class OpenClBackend final : public Backend {
   void WriteFree(const std::uint8_t* src) override;
 
   // Device times from OpenCL event profiling, each from the start of a stage's first command to
-  // the end of its last: rasterize_us = job upload + rasterize kernels (or ray upload + rays_cast
-  // for the conventional model), fuse_us = fuse (or rays_fuse), classify_us = the three
-  // classify kernels, insight_us = insight kernels + reading C_Edge back. Each measurement is
-  // reported once; stages that did not run since the last call keep the caller's values.
+  // the end of its last: rasterize_us = job upload + rasterize_edges (+ rasterize_rows when it
+  // ran on its own), fuse_us = rasterize_rows_fuse (the row pass of stage 1 and the fusion in
+  // one kernel) or fuse; for the conventional model ray upload + rays_cast and rays_fuse;
+  // classify_us = the three classify kernels; insight_us = the insight kernels + reading C_Edge
+  // back. Each measurement is reported once; stages that did not run since the last call keep
+  // the caller's values.
   bool KernelTimes(StageTimes* times) const override;
 
   // The padded cell layout of the device buffers (kernels/common.cl): PAD_Y zero rows above
@@ -93,6 +95,8 @@ class OpenClBackend final : public Backend {
   // Global and local sizes of a kernel over `rows` rows of 16-cell vectors.
   void RowsLaunch(cl_kernel kernel, int rows, cl_event* event);
   void SetStage(Stage stage, opencl::Event begin, opencl::Event end);
+  // Enqueues the row pass of a Rasterize() that is still waiting for its Fuse().
+  void FlushRows();
 
   std::shared_ptr<opencl::DeviceContext> device_;
   std::string name_;
@@ -124,6 +128,13 @@ class OpenClBackend final : public Backend {
   opencl::Kernel rasterize_edges_, rasterize_rows_, insight_cast_, insight_compact_, rays_cast_;
   opencl::Kernel erode_dilate_, dilate_cols_;
   std::array<opencl::Kernel, 2> fuse_, rays_fuse_, hysteresis_, shift_;  // per map buffer
+  std::array<opencl::Kernel, 2> rows_fuse_;                              //
+
+  // Rasterize() enqueues the upload and rasterize_edges and leaves the row pass for the Fuse()
+  // of the same rows, which does both in one pass (rasterize_rows_fuse); any other call runs
+  // the row pass on its own first.
+  bool rows_pending_ = false;
+  int pending_begin_ = 0, pending_end_ = 0;
 
   // Work sizes, fixed at construction.
   std::size_t row_items_ = 1;                     // work-items per row of kernels over cells
