@@ -36,3 +36,19 @@ int16 InsideLanes(int c0) {
   const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   return lane < (int16)(WIDTH - c0);
 }
+
+// Map cells (row r, columns c0 .. c0 + 15) after a shift of the map by whole cells:
+// src(r + dy, c + dx), 0 where that cell is outside the map, and 0 past the width. The load
+// may start outside the source row (|dx| < WIDTH, |dy| < HEIGHT): it stays inside the padded
+// buffer. Two 16-byte loads: an unaligned vload16 of shorts may be split into many small
+// loads, one of bytes is not.
+short16 ShiftedCells(__global const short* src, int r, int c0, int dx, int dy) {
+  const int sr = r + dy;
+  if (sr < 0 || sr >= HEIGHT) return (short16)(0);
+  __global const uchar* bytes = (__global const uchar*)(src + CELL(sr, c0 + dx));
+  const short16 old = (short16)(as_short8(vload16(0, bytes)), as_short8(vload16(1, bytes)));
+  const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const int16 sc = lane + (int16)(c0 + dx);
+  const int16 keep = (sc >= (int16)(0)) & (sc < (int16)(WIDTH)) & InsideLanes(c0);
+  return select((short16)(0), old, convert_short16(keep));
+}

@@ -5,9 +5,9 @@
 // geometry in 1/256 cell, 64-bit), and a prefix XOR along each row turns parity into inside /
 // outside. A centre exactly on an edge counts as left of it.
 //
-// rasterize_edges runs one work-item per polygon edge and per kept echo and sets bits in two
-// bit planes (parity toggles, occupied): one bit per cell, 32 cells a word, each row padded to
-// whole words. rasterize_rows scans each row's toggles, writes the row of the (padded) update
+// rasterize_edges runs one work-item per polygon edge and per kept echo (or one for all, on a
+// CPU) and sets bits in two bit planes (parity toggles, occupied): one bit per cell, 32 cells a
+// word, each row padded to whole words. rasterize_rows scans each row's toggles, writes the row of the (padded) update
 // mask and clears both planes for the next scan: one work-item per row on a CPU
 // (RASTER_GROUP 1), one work-group per row elsewhere. Bits make the prefix XOR a few word
 // operations and let edges meet in any order (XOR commutes).
@@ -16,7 +16,8 @@
 // writing each row once.
 //
 // Build options: FIXED_BITS, UPDATE_NONE, UPDATE_FREE, UPDATE_OCCUPIED, L_FREE, L_OCCUPIED,
-// L_MIN, L_MAX, RASTER_GROUP (a power of two up to 256), and those of common.cl.
+// L_MIN, L_MAX, RASTER_GROUP (a power of two up to 256), RASTER_SERIAL (0 or 1), and those of
+// common.cl.
 //
 // The job buffer, written by the host each scan: job[0] vertex count n, job[1] occupied count,
 // job[2] first row, job[3] end row (both clipped to the map and non-empty), then the n vertices
@@ -41,9 +42,20 @@ long RasterFloorDiv(long a, long b) {
 // signs flipped so that den > 0 (host/rasterize.cpp, CrossingColumn). From one row to the next
 // num grows by 256 (x1 - x0), so the kernel steps the quotient and remainder of that division
 // instead of dividing per row: the same integers, two divisions per edge.
-__kernel void rasterize_edges(__global const int* job, __global uint* toggles,
-                              __global uint* occupied, __global uchar* update) {
-  const int i = get_global_id(0);
+// On a CPU (RASTER_SERIAL 1) one work-item walks every edge and echo, as the host does: two
+// threads setting bits in the same words would only fight over cache lines. Elsewhere every
+// edge and echo is a work-item, and the bits are set with atomics.
+#if RASTER_SERIAL
+#define RASTER_XOR(p, bits) (*(p) ^= (bits))
+#define RASTER_OR(p, bits) (*(p) |= (bits))
+#else
+#define RASTER_XOR(p, bits) atomic_xor((p), (bits))
+#define RASTER_OR(p, bits) atomic_or((p), (bits))
+#endif
+
+// Item i of the job: edge i (i < n) or kept echo i - n.
+void RasterItem(__global const int* job, int i, __global uint* toggles, __global uint* occupied,
+                __global uchar* update) {
   const int n = job[0], occupied_count = job[1], r0 = job[2], r1 = job[3];
   __global const int* v = job + 4;
   if (i < n) {
@@ -67,9 +79,7 @@ __kernel void rasterize_edges(__global const int* job, __global uint* toggles,
     const long step_q = RasterFloorDiv(step, den), step_rem = step - step_q * den;
     for (long r = ra; r < rb; ++r) {
       const long k = clamp(q + 1, 0L, (long)WIDTH);
-      if (k < WIDTH) {
-        atomic_xor(&toggles[r * RASTER_WORDS + (k >> 5)], 1u << (uint)(k & 31));
-      }
+      if (k < WIDTH) RASTER_XOR(&toggles[r * RASTER_WORDS + (k >> 5)], 1u << (uint)(k & 31));
       q += step_q;
       rem += step_rem;
       if (rem >= den) {
@@ -81,13 +91,24 @@ __kernel void rasterize_edges(__global const int* job, __global uint* toggles,
     const int cell = job[4 + 2 * n + (i - n)];
     const int r = cell / WIDTH, c = cell % WIDTH;
     if (r >= r0 && r < r1) {
-      atomic_or(&occupied[r * RASTER_WORDS + (c >> 5)], 1u << (uint)(c & 31));
+      RASTER_OR(&occupied[r * RASTER_WORDS + (c >> 5)], 1u << (uint)(c & 31));
     } else {
       // Outside the rewritten rows rasterize_rows never writes, so this cannot race; the host
       // marks such a cell as well.
       update[CELL(r, c)] = UPDATE_OCCUPIED;
     }
   }
+}
+
+// Global size 1 with RASTER_SERIAL, else n + occupied count rounded up.
+__kernel void rasterize_edges(__global const int* job, __global uint* toggles,
+                              __global uint* occupied, __global uchar* update) {
+#if RASTER_SERIAL
+  if (get_global_id(0) != 0) return;
+  for (int i = 0; i < job[0] + job[1]; ++i) RasterItem(job, i, toggles, occupied, update);
+#else
+  RasterItem(job, get_global_id(0), toggles, occupied, update);
+#endif
 }
 
 // Sixteen mask values from sixteen parity and occupied bits (occupied wins), zero on lanes
@@ -101,22 +122,30 @@ uchar16 RasterExpand16(uint parity, uint occupied, int c0) {
   return convert_uchar16(select((uint16)(0), value, InsideLanes(c0)));
 }
 
-// Kernel stage 2 folded into the row pass (fuse.cl's arithmetic): the map's 16 cells where the
-// mask vector `u` was just written.
-void RasterFuse16(__global short* map, uchar16 u, int c0) {
+// Kernel stage 2 folded into the row pass (fuse.cl's arithmetic): fuses the mask vector `u` of
+// columns c0 .. c0 + 15 into the map cells `m` and stores them at `out`.
+void RasterFuse16(short16 m, uchar16 u, int c0, __global short* out) {
   const int16 value = convert_int16(u);
   const int16 delta = select(select((int16)(0), (int16)(L_OCCUPIED), value == UPDATE_OCCUPIED),
                              (int16)(L_FREE), value == UPDATE_FREE);
-  __global short16* m = (__global short16*)map;
-  const int16 fused = clamp(convert_int16(*m) + delta, L_MIN, L_MAX);
-  *m = convert_short16(select((int16)(0), fused, InsideLanes(c0)));
+  const int16 fused = clamp(convert_int16(m) + delta, L_MIN, L_MAX);
+  *(__global short16*)out = convert_short16(select((int16)(0), fused, InsideLanes(c0)));
 }
 
-// Turns words [w0, w1) of a row into mask values; `fill` is all ones when the parity left of
-// word w0 is odd. Clears the words of both planes for the next scan. With a row of the map
-// (`row_map` not null) it also fuses the new values into it.
-void RasterWords(__global uint* row_toggles, __global uint* row_occupied,
-                 __global uchar* row_update, __global short* row_map, int w0, int w1, uint fill) {
+// What the row pass does to the map besides writing the mask: nothing (src null), fuse in
+// place (src == dst), or shift src into dst by (dx, dy) and fuse there.
+typedef struct {
+  __global const short* src;
+  __global short* dst;
+  int dx, dy;
+} RasterMap;
+
+// Turns words [w0, w1) of row r into mask values; `fill` is all ones when the parity left of
+// word w0 is odd. Clears the words of both planes for the next scan, and fuses into the map.
+void RasterWords(__global uint* toggles, __global uint* occupied, __global uchar* update,
+                 RasterMap map, int r, int w0, int w1, uint fill) {
+  __global uint* row_toggles = toggles + r * RASTER_WORDS;
+  __global uint* row_occupied = occupied + r * RASTER_WORDS;
   for (int w = w0; w < w1; ++w) {
     uint x = row_toggles[w];
     const uint o = row_occupied[w];
@@ -131,37 +160,48 @@ void RasterWords(__global uint* row_toggles, __global uint* row_occupied,
     x ^= fill;
     fill = (x >> 31) ? 0xffffffffu : 0u;
     // Whole aligned vectors: the padded row has room up to the next multiple of 32 columns.
-    const int c0 = 32 * w;
+    const int c0 = 32 * w, k = CELL(r, c0);
     const uchar16 lo = RasterExpand16(x, o, c0), hi = RasterExpand16(x >> 16, o >> 16, c0 + 16);
-    __global uchar16* out = (__global uchar16*)(row_update + c0);
-    out[0] = lo;
-    out[1] = hi;
-    if (row_map) {
-      RasterFuse16(row_map + c0, lo, c0);
-      RasterFuse16(row_map + c0 + 16, hi, c0 + 16);
-    }
+    *(__global uchar16*)(update + k) = lo;
+    *(__global uchar16*)(update + k + 16) = hi;
+    if (map.src == 0) continue;
+    const short16 m_lo = ShiftedCells(map.src, r, c0, map.dx, map.dy);
+    const short16 m_hi = ShiftedCells(map.src, r, c0 + 16, map.dx, map.dy);
+    RasterFuse16(m_lo, lo, c0, map.dst + k);
+    RasterFuse16(m_hi, hi, c0 + 16, map.dst + k + 16);
   }
 }
 
-// Rewrites row r's mask (and fuses it into `map` unless null). On a CPU (RASTER_GROUP 1) one
-// work-item does the row left to right. Elsewhere a work-group of RASTER_GROUP work-items does
-// it: work-item t owns a run of whole words, and `carry` holds one bit per work-item, the
-// parity of its run, so that each knows the parity left of its run (RASTER_CARRY words of
-// local memory, declared by the kernel).
+// Words [w0, w1) of a row outside the rasterized rows while the map shifts: the shift only.
+void RasterShiftWords(RasterMap map, int r, int w0, int w1) {
+  for (int c0 = 32 * w0; c0 < 32 * w1; c0 += 16) {
+    *(__global short16*)(map.dst + CELL(r, c0)) = ShiftedCells(map.src, r, c0, map.dx, map.dy);
+  }
+}
+
+// Rewrites row r's mask and does `map`'s work on it; rows outside [job[2], job[3]) only shift.
+// On a CPU (RASTER_GROUP 1) one work-item does the row left to right. Elsewhere a work-group of
+// RASTER_GROUP work-items does it: work-item t owns a run of whole words, and `carry` (local
+// memory of RASTER_CARRY words, declared by the kernel) holds one bit per work-item, the parity
+// of its run, so that each knows the parity left of its run.
 void RasterRow(__global const int* job, __global uint* toggles, __global uint* occupied,
-               __global uchar* update, __global short* map, __local uint* carry) {
+               __global uchar* update, RasterMap map, int r, __local uint* carry) {
+  const bool rasterized = r >= job[2] && r < job[3];
 #if RASTER_GROUP == 1
-  const int r = job[2] + (int)get_global_id(1);
-  if (r >= job[3]) return;
-  RasterWords(toggles + r * RASTER_WORDS, occupied + r * RASTER_WORDS, update + CELL(r, 0),
-              map ? map + CELL(r, 0) : 0, 0, RASTER_WORDS, 0u);
+  if (rasterized) {
+    RasterWords(toggles, occupied, update, map, r, 0, RASTER_WORDS, 0u);
+  } else {
+    RasterShiftWords(map, r, 0, RASTER_WORDS);
+  }
 #else
   const int t = get_local_id(0);
-  const int r = job[2] + (int)get_group_id(1);
   const int w0 = min(t * RASTER_WORDS_PER_ITEM, RASTER_WORDS);
   const int w1 = min(w0 + RASTER_WORDS_PER_ITEM, RASTER_WORDS);
+  if (!rasterized) {  // the same for the whole work-group
+    RasterShiftWords(map, r, w0, w1);
+    return;
+  }
   __global uint* row_toggles = toggles + r * RASTER_WORDS;
-
   if (t < RASTER_CARRY) carry[t] = 0;
   barrier(CLK_LOCAL_MEM_FENCE);
   uint run = 0;
@@ -172,24 +212,43 @@ void RasterRow(__global const int* job, __global uint* toggles, __global uint* o
   // Parity left of this run: the XOR of the runs of work-items 0 .. t - 1.
   uint left = popcount(carry[t >> 5] & ((1u << (t & 31)) - 1u));
   for (int k = 0; k < (t >> 5); ++k) left += popcount(carry[k]);
-  RasterWords(row_toggles, occupied + r * RASTER_WORDS, update + CELL(r, 0),
-              map ? map + CELL(r, 0) : 0, w0, w1, (left & 1) ? 0xffffffffu : 0u);
+  RasterWords(toggles, occupied, update, map, r, w0, w1, (left & 1) ? 0xffffffffu : 0u);
 #endif
 }
 
-// Global size (1, row count rounded up to the work-group) on a CPU, (RASTER_GROUP, row count)
-// elsewhere; rows job[2] .. job[3] - 1.
+// The row of work-group (or, on a CPU, work-item) g in dimension 1: row_first + g, or none.
+bool RasterRowOf(int row_first, int row_end, int* r) {
+#if RASTER_GROUP == 1
+  *r = row_first + (int)get_global_id(1);
+#else
+  *r = row_first + (int)get_group_id(1);
+#endif
+  return *r < row_end;
+}
+
+// Global size (1, rows rounded up to the work-group) on a CPU, (RASTER_GROUP, rows) elsewhere;
+// rows job[2] .. job[3] - 1. The mask only.
 __kernel void rasterize_rows(__global const int* job, __global uint* toggles,
                              __global uint* occupied, __global uchar* update) {
   __local uint carry[RASTER_CARRY];
-  RasterRow(job, toggles, occupied, update, 0, carry);
+  int r;
+  if (!RasterRowOf(job[2], job[3], &r)) return;
+  const RasterMap none = {0, 0, 0, 0};
+  RasterRow(job, toggles, occupied, update, none, r, carry);
 }
 
-// rasterize_rows and kernel stage 2 in one pass over the rows, for a Fuse() of exactly the rows
-// just rasterized (src/opencl_backend.cpp defers the row pass for it).
+// rasterize_rows with kernel stage 2 in the same pass, for a Fuse() of exactly the rows just
+// rasterized (src/opencl_backend.cpp defers the row pass for it). With src == dst it runs over
+// the rasterized rows and fuses in place (dx = dy = 0); with a pending map shift it runs over
+// every row (row_first 0, row_end HEIGHT), writing dst(r, c) = src(r + dy, c + dx) and fusing
+// the rasterized rows on the way.
 __kernel void rasterize_rows_fuse(__global const int* job, __global uint* toggles,
                                   __global uint* occupied, __global uchar* update,
-                                  __global short* map) {
+                                  __global const short* src, __global short* dst, int dx, int dy,
+                                  int row_first, int row_end) {
   __local uint carry[RASTER_CARRY];
-  RasterRow(job, toggles, occupied, update, map, carry);
+  int r;
+  if (!RasterRowOf(row_first, row_end, &r)) return;
+  const RasterMap map = {src, dst, dx, dy};
+  RasterRow(job, toggles, occupied, update, map, r, carry);
 }

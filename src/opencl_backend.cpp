@@ -69,7 +69,7 @@ std::string OpenClBackend::BuildOptions(const KernelParams& p, int vectors_per_i
     << p.t_low << ") -DT_HIGH=(" << p.t_high << ") -DOPENING_RADIUS=" << p.opening_radius
     << " -DFIXED_BITS=" << kFixedBits << " -DUPDATE_NONE=" << int(kUpdateNone)
     << " -DUPDATE_FREE=" << int(kUpdateFree) << " -DUPDATE_OCCUPIED=" << int(kUpdateOccupied)
-    << " -DRASTER_GROUP=" << raster_group;
+    << " -DRASTER_GROUP=" << raster_group << " -DRASTER_SERIAL=" << (raster_group == 1 ? 1 : 0);
   return o.str();
 }
 
@@ -130,7 +130,8 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     rays_fuse_[k] = MakeKernel("rays_fuse");
     hysteresis_[k] = MakeKernel("classify_hysteresis_erode_rows");
     shift_[k] = MakeKernel("shift_map");
-    rows_fuse_[k] = MakeKernel("rasterize_rows_fuse");
+    rows_fuse_[k][0] = MakeKernel("rasterize_rows_fuse");
+    rows_fuse_[k][1] = MakeKernel("rasterize_rows_fuse");
   }
 
   // Buffers.
@@ -202,10 +203,14 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     SetArg(hysteresis_[k].get(), 0, map_[k].get());
     SetArg(hysteresis_[k].get(), 1, pass_a_.get());
     SetArg(hysteresis_[k].get(), 2, pass_b_.get());
-    SetArg(rows_fuse_[k].get(), 1, toggles_.get());
-    SetArg(rows_fuse_[k].get(), 2, occupied_.get());
-    SetArg(rows_fuse_[k].get(), 3, update_.get());
-    SetArg(rows_fuse_[k].get(), 4, map_[k].get());
+    for (int shifted = 0; shifted < 2; ++shifted) {
+      const cl_kernel rows_fuse = rows_fuse_[k][shifted].get();
+      SetArg(rows_fuse, 1, toggles_.get());
+      SetArg(rows_fuse, 2, occupied_.get());
+      SetArg(rows_fuse, 3, update_.get());
+      SetArg(rows_fuse, 4, map_[k].get());
+      SetArg(rows_fuse, 5, map_[shifted ? 1 - k : k].get());
+    }
     SetArg(shift_[k].get(), 0, map_[k].get());
     SetArg(shift_[k].get(), 1, map_[1 - k].get());
   }
@@ -298,7 +303,9 @@ void OpenClBackend::GrowJob(std::size_t ints) {
   SetArg(rasterize_edges_.get(), 0, job_.get());
   SetArg(rasterize_rows_.get(), 0, job_.get());
   SetArg(rays_cast_.get(), 0, job_.get());
-  for (const opencl::Kernel& k : rows_fuse_) SetArg(k.get(), 0, job_.get());
+  for (const auto& pair : rows_fuse_) {
+    for (const opencl::Kernel& k : pair) SetArg(k.get(), 0, job_.get());
+  }
 }
 
 void OpenClBackend::Upload(const std::int32_t (&header)[4], const std::int32_t* a,
@@ -327,7 +334,7 @@ void OpenClBackend::SetStage(Stage stage, opencl::Event begin, opencl::Event end
 }
 
 void OpenClBackend::Rasterize(const RasterJob& job) {
-  FlushRows();
+  FlushRows();  // a pending shift may wait: the upload and rasterize_edges leave the map alone
   const int r0 = std::max(job.row_begin, 0);
   const int r1 = std::min(job.row_end, params_.height);
   if (r0 >= r1) return;
@@ -336,8 +343,13 @@ void OpenClBackend::Rasterize(const RasterJob& job) {
   opencl::Event begin, end;
   Upload(header, job.vertices, 2 * std::size_t(n), job.occupied, std::size_t(occupied), &begin);
   if (n + occupied > 0) {
+    const std::size_t one = 1;
     const std::size_t global = RoundUp(std::size_t(n + occupied), edge_local_);
-    Launch(rasterize_edges_.get(), 1, &global, &edge_local_, end.out());
+    if (raster_group_ == 1) {  // RASTER_SERIAL: one work-item does every edge and echo
+      Launch(rasterize_edges_.get(), 1, &one, &one, end.out());
+    } else {
+      Launch(rasterize_edges_.get(), 1, &global, &edge_local_, end.out());
+    }
   } else {
     end = Retained(begin.get());
   }
@@ -358,16 +370,24 @@ void OpenClBackend::FlushRows() {
 void OpenClBackend::Fuse(int row_begin, int row_end) {
   const int r0 = std::max(row_begin, 0), r1 = std::min(row_end, params_.height);
   if (rows_pending_ && r0 == pending_begin_ && r1 == pending_end_) {
-    rows_pending_ = false;
+    // The row pass, the pending shift (every row) or none (the rasterized rows), the fusion.
+    const cl_kernel kernel = rows_fuse_[current_][shift_pending_ ? 1 : 0].get();
+    const int first = shift_pending_ ? 0 : r0, end = shift_pending_ ? params_.height : r1;
+    SetArg(kernel, 6, cl_int(shift_pending_ ? pending_dx_ : 0));
+    SetArg(kernel, 7, cl_int(shift_pending_ ? pending_dy_ : 0));
+    SetArg(kernel, 8, cl_int(first));
+    SetArg(kernel, 9, cl_int(end));
     const std::size_t global[2] = {raster_local_[0],
-                                   RoundUp(std::size_t(r1 - r0), raster_local_[1])};
+                                   RoundUp(std::size_t(end - first), raster_local_[1])};
     opencl::Event event;
-    Launch(rows_fuse_[current_].get(), 2, global, raster_local_, event.out());
+    Launch(kernel, 2, global, raster_local_, event.out());
+    if (shift_pending_) current_ = 1 - current_;
+    shift_pending_ = rows_pending_ = false;
     opencl::Event again = Retained(event.get());
     SetStage(kFuseStage, std::move(event), std::move(again));
     return;
   }
-  FlushRows();
+  Flush();
   if (r0 >= r1) return;
   const cl_kernel kernel = fuse_[current_].get();
   SetArg(kernel, 2, cl_int(r0));
@@ -379,7 +399,7 @@ void OpenClBackend::Fuse(int row_begin, int row_end) {
 }
 
 void OpenClBackend::CastRays(const RayJob& job) {
-  FlushRows();
+  Flush();
   const int n = std::max(job.ray_count, 0);
   if (n == 0) return;
   const std::int32_t header[4] = {n, job.origin_col, job.origin_row, 0};
@@ -391,7 +411,7 @@ void OpenClBackend::CastRays(const RayJob& job) {
 }
 
 void OpenClBackend::FuseRays(int row_begin, int row_end) {
-  FlushRows();
+  Flush();
   const int r0 = std::max(row_begin, 0), r1 = std::min(row_end, params_.height);
   if (r0 >= r1) return;
   const cl_kernel kernel = rays_fuse_[current_].get();
@@ -404,7 +424,7 @@ void OpenClBackend::FuseRays(int row_begin, int row_end) {
 }
 
 void OpenClBackend::Classify() {
-  FlushRows();
+  Flush();
   opencl::Event begin, end;
   const int height = params_.height;
   RowsLaunch(hysteresis_[current_].get(), height, begin.out());
@@ -414,7 +434,7 @@ void OpenClBackend::Classify() {
 }
 
 void OpenClBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
-  FlushRows();
+  Flush();
   const cl_kernel cast = insight_cast_.get();
   SetArg(cast, 3, cl_int(vehicle.col));
   SetArg(cast, 4, cl_int(vehicle.row));
@@ -433,27 +453,42 @@ void OpenClBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
 }
 
 void OpenClBackend::Shift(int dx, int dy) {
-  FlushRows();
+  Flush();
   if (dx == 0 && dy == 0) return;
   if (std::abs(dx) >= params_.width || std::abs(dy) >= params_.height) {
     Fill(map_[current_].get(), layout_.cells * sizeof(LogOdds));
     return;
   }
+  // Deferred: two shifts in a row do not compose (the first one clips), so a second one
+  // flushes the first.
+  shift_pending_ = true;
+  pending_dx_ = dx;
+  pending_dy_ = dy;
+}
+
+void OpenClBackend::FlushShift() {
+  if (!shift_pending_) return;
+  shift_pending_ = false;
   const cl_kernel kernel = shift_[current_].get();
-  SetArg(kernel, 2, cl_int(dx));
-  SetArg(kernel, 3, cl_int(dy));
+  SetArg(kernel, 2, cl_int(pending_dx_));
+  SetArg(kernel, 3, cl_int(pending_dy_));
   RowsLaunch(kernel, params_.height, nullptr);
   current_ = 1 - current_;
 }
 
-void OpenClBackend::Clear() {
+void OpenClBackend::Flush() {
+  FlushShift();
   FlushRows();
+}
+
+void OpenClBackend::Clear() {
+  Flush();
   Fill(map_[current_].get(), layout_.cells * sizeof(LogOdds));
   Fill(free_.get(), layout_.cells);
 }
 
 void OpenClBackend::Finish() {
-  FlushRows();
+  Flush();
   Check(clFinish(queue_.get()), "clFinish");
 }
 
@@ -469,7 +504,7 @@ void OpenClBackend::RowsLaunch(cl_kernel kernel, int rows, cl_event* event) {
 }
 
 void OpenClBackend::ReadCells(cl_mem buffer, std::size_t element, void* dst) {
-  FlushRows();
+  Flush();
   const std::size_t origin[3] = {std::size_t(layout_.pad_x) * element, std::size_t(layout_.pad_y),
                                  0};
   const std::size_t host_origin[3] = {0, 0, 0};
@@ -482,7 +517,7 @@ void OpenClBackend::ReadCells(cl_mem buffer, std::size_t element, void* dst) {
 }
 
 void OpenClBackend::WriteCells(cl_mem buffer, std::size_t element, const void* src) {
-  FlushRows();
+  Flush();
   const std::size_t origin[3] = {std::size_t(layout_.pad_x) * element, std::size_t(layout_.pad_y),
                                  0};
   const std::size_t host_origin[3] = {0, 0, 0};
@@ -494,10 +529,13 @@ void OpenClBackend::WriteCells(cl_mem buffer, std::size_t element, const void* s
         "clEnqueueWriteBufferRect");
 }
 
+// Flush() before choosing the map buffer: a deferred shift moves the map to the other one.
 void OpenClBackend::ReadLogOdds(LogOdds* dst) {
+  Flush();
   ReadCells(map_[current_].get(), sizeof(LogOdds), dst);
 }
 void OpenClBackend::WriteLogOdds(const LogOdds* src) {
+  Flush();
   WriteCells(map_[current_].get(), sizeof(LogOdds), src);
 }
 void OpenClBackend::ReadUpdateMask(std::uint8_t* dst) { ReadCells(update_.get(), 1, dst); }

@@ -70,7 +70,8 @@ class OpenClBackend final : public Backend {
   static Layout MakeLayout(const KernelParams& params);
 
   // The -D build options of the kernels (the program cache's key). `vectors_per_item`: 16-cell
-  // vectors of a row per work-item; `raster_group`: work-group size of rasterize_rows.
+  // vectors of a row per work-item; `raster_group`: work-group size of rasterize_rows, 1 for
+  // the CPU shape, where rasterize_edges also runs as one work-item.
   static std::string BuildOptions(const KernelParams& params, int vectors_per_item,
                                   int raster_group);
 
@@ -95,7 +96,9 @@ class OpenClBackend final : public Backend {
   // Global and local sizes of a kernel over `rows` rows of 16-cell vectors.
   void RowsLaunch(cl_kernel kernel, int rows, cl_event* event);
   void SetStage(Stage stage, opencl::Event begin, opencl::Event end);
-  // Enqueues the row pass of a Rasterize() that is still waiting for its Fuse().
+  // Enqueues the deferred shift and row pass on their own.
+  void Flush();
+  void FlushShift();
   void FlushRows();
 
   std::shared_ptr<opencl::DeviceContext> device_;
@@ -128,11 +131,16 @@ class OpenClBackend final : public Backend {
   opencl::Kernel rasterize_edges_, rasterize_rows_, insight_cast_, insight_compact_, rays_cast_;
   opencl::Kernel erode_dilate_, dilate_cols_;
   std::array<opencl::Kernel, 2> fuse_, rays_fuse_, hysteresis_, shift_;  // per map buffer
-  std::array<opencl::Kernel, 2> rows_fuse_;                              //
+  // rasterize_rows_fuse per map buffer: [k][0] fuses map_[k] in place, [k][1] shifts map_[k]
+  // into map_[1 - k] and fuses there.
+  std::array<std::array<opencl::Kernel, 2>, 2> rows_fuse_;
 
-  // Rasterize() enqueues the upload and rasterize_edges and leaves the row pass for the Fuse()
-  // of the same rows, which does both in one pass (rasterize_rows_fuse); any other call runs
-  // the row pass on its own first.
+  // Deferred work. Shift() records the shift, Rasterize() enqueues the upload and
+  // rasterize_edges and records the row pass; the Fuse() of the same rows then does the row
+  // pass, the shift and the fusion in one pass over the map (rasterize_rows_fuse). Any other
+  // call first runs what is pending on its own (Flush()), so results never depend on it.
+  bool shift_pending_ = false;
+  int pending_dx_ = 0, pending_dy_ = 0;
   bool rows_pending_ = false;
   int pending_begin_ = 0, pending_end_ = 0;
 
