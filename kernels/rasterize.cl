@@ -5,15 +5,19 @@
 // geometry in 1/256 cell, 64-bit), and a prefix XOR along each row turns parity into inside /
 // outside. A centre exactly on an edge counts as left of it.
 //
-// rasterize_edges runs one work-item per polygon edge and per kept echo (or one for all, on a
-// CPU) and sets bits in two bit planes (parity toggles, occupied): one bit per cell, 32 cells a
-// word, each row padded to whole words. rasterize_rows scans each row's toggles, writes the row of the (padded) update
-// mask and clears both planes for the next scan: one work-item per row on a CPU
-// (RASTER_GROUP 1), one work-group per row elsewhere. Bits make the prefix XOR a few word
-// operations and let edges meet in any order (XOR commutes).
+// Edges toggle parity bits and kept echoes set bits in two bit planes (parity toggles,
+// occupied): one bit per cell, 32 cells a word, each row padded to whole words. The row pass
+// scans each row's toggles, writes the row of the (padded) update mask and clears both planes
+// for the next scan; bits make the prefix XOR a few word operations and let edges meet in any
+// order (XOR commutes). The row pass can also fuse the mask into the map (kernel stage 2,
+// fuse.cl's arithmetic) and apply a pending map shift (shift.cl) on the way, so that a scan
+// reads and writes each row once.
 //
-// rasterize_rows_fuse does the row pass and kernel stage 2 (fuse.cl) together, reading and
-// writing each row once.
+// Two shapes, both exact:
+//   elsewhere than on a CPU: rasterize_edges, one work-item per edge and per echo with atomics,
+//     then rasterize_rows, one work-group of RASTER_GROUP work-items per row;
+//   on a CPU (RASTER_SERIAL 1, RASTER_GROUP 1): rasterize_bands alone, one work-item per band
+//     of rows walking every edge and echo for its rows without atomics, then its rows.
 //
 // Build options: FIXED_BITS, UPDATE_NONE, UPDATE_FREE, UPDATE_OCCUPIED, L_FREE, L_OCCUPIED,
 // L_MIN, L_MAX, RASTER_GROUP (a power of two up to 256), RASTER_SERIAL (0 or 1), and those of
@@ -42,9 +46,9 @@ long RasterFloorDiv(long a, long b) {
 // signs flipped so that den > 0 (host/rasterize.cpp, CrossingColumn). From one row to the next
 // num grows by 256 (x1 - x0), so the kernel steps the quotient and remainder of that division
 // instead of dividing per row: the same integers, two divisions per edge.
-// On a CPU (RASTER_SERIAL 1) one work-item walks every edge and echo, as the host does: two
-// threads setting bits in the same words would only fight over cache lines. Elsewhere every
-// edge and echo is a work-item, and the bits are set with atomics.
+// On a CPU (RASTER_SERIAL 1) each work-item of rasterize_bands owns a band of rows and sets
+// their bits without atomics. Elsewhere every edge and echo is a work-item of rasterize_edges,
+// and the bits are set with atomics.
 #if RASTER_SERIAL
 #define RASTER_XOR(p, bits) (*(p) ^= (bits))
 #define RASTER_OR(p, bits) (*(p) |= (bits))
@@ -53,62 +57,62 @@ long RasterFloorDiv(long a, long b) {
 #define RASTER_OR(p, bits) atomic_or((p), (bits))
 #endif
 
-// Item i of the job: edge i (i < n) or kept echo i - n.
-void RasterItem(__global const int* job, int i, __global uint* toggles, __global uint* occupied,
-                __global uchar* update) {
-  const int n = job[0], occupied_count = job[1], r0 = job[2], r1 = job[3];
-  __global const int* v = job + 4;
-  if (i < n) {
-    const int j = i + 1 == n ? 0 : i + 1;
-    const long x0 = v[2 * i], y0 = v[2 * i + 1];
-    const long x1 = v[2 * j], y1 = v[2 * j + 1];
-    if (y0 == y1) return;
-    const long ylo = min(y0, y1), yhi = max(y0, y1);
-    // Rows whose centre yc = 256 r + 128 satisfies ylo <= yc < yhi.
-    const long ra = max(
-        RasterFloorDiv(ylo - RASTER_FIXED_HALF + RASTER_FIXED_ONE - 1, RASTER_FIXED_ONE), (long)r0);
-    const long rb = min(
-        RasterFloorDiv(yhi - RASTER_FIXED_HALF + RASTER_FIXED_ONE - 1, RASTER_FIXED_ONE), (long)r1);
-    if (ra >= rb) return;
-    const long sign = y1 > y0 ? 1 : -1;
-    const long den = sign * (y1 - y0) * RASTER_FIXED_ONE;
-    const long num = sign * ((x0 - RASTER_FIXED_HALF) * (y1 - y0) +
-                             (ra * RASTER_FIXED_ONE + RASTER_FIXED_HALF - y0) * (x1 - x0));
-    const long step = sign * RASTER_FIXED_ONE * (x1 - x0);
-    long q = RasterFloorDiv(num, den), rem = num - q * den;
-    const long step_q = RasterFloorDiv(step, den), step_rem = step - step_q * den;
-    for (long r = ra; r < rb; ++r) {
-      const long k = clamp(q + 1, 0L, (long)WIDTH);
-      if (k < WIDTH) RASTER_XOR(&toggles[r * RASTER_WORDS + (k >> 5)], 1u << (uint)(k & 31));
-      q += step_q;
-      rem += step_rem;
-      if (rem >= den) {
-        rem -= den;
-        ++q;
-      }
-    }
-  } else if (i < n + occupied_count) {
-    const int cell = job[4 + 2 * n + (i - n)];
-    const int r = cell / WIDTH, c = cell % WIDTH;
-    if (r >= r0 && r < r1) {
-      RASTER_OR(&occupied[r * RASTER_WORDS + (c >> 5)], 1u << (uint)(c & 31));
-    } else {
-      // Outside the rewritten rows rasterize_rows never writes, so this cannot race; the host
-      // marks such a cell as well.
-      update[CELL(r, c)] = UPDATE_OCCUPIED;
+// Toggles the parity bits of edge i of the ring `v` (n vertices) on its rows within [lo, hi).
+void RasterEdge(__global const int* v, int n, int i, long lo, long hi, __global uint* toggles) {
+  const int j = i + 1 == n ? 0 : i + 1;
+  const long x0 = v[2 * i], y0 = v[2 * i + 1];
+  const long x1 = v[2 * j], y1 = v[2 * j + 1];
+  if (y0 == y1) return;
+  const long ylo = min(y0, y1), yhi = max(y0, y1);
+  // Rows whose centre yc = 256 r + 128 satisfies ylo <= yc < yhi.
+  const long ra =
+      max(RasterFloorDiv(ylo - RASTER_FIXED_HALF + RASTER_FIXED_ONE - 1, RASTER_FIXED_ONE), lo);
+  const long rb =
+      min(RasterFloorDiv(yhi - RASTER_FIXED_HALF + RASTER_FIXED_ONE - 1, RASTER_FIXED_ONE), hi);
+  if (ra >= rb) return;
+  const long sign = y1 > y0 ? 1 : -1;
+  const long den = sign * (y1 - y0) * RASTER_FIXED_ONE;
+  const long num = sign * ((x0 - RASTER_FIXED_HALF) * (y1 - y0) +
+                           (ra * RASTER_FIXED_ONE + RASTER_FIXED_HALF - y0) * (x1 - x0));
+  const long step = sign * RASTER_FIXED_ONE * (x1 - x0);
+  long q = RasterFloorDiv(num, den), rem = num - q * den;
+  const long step_q = RasterFloorDiv(step, den), step_rem = step - step_q * den;
+  for (long r = ra; r < rb; ++r) {
+    const long k = clamp(q + 1, 0L, (long)WIDTH);
+    if (k < WIDTH) RASTER_XOR(&toggles[r * RASTER_WORDS + (k >> 5)], 1u << (uint)(k & 31));
+    q += step_q;
+    rem += step_rem;
+    if (rem >= den) {
+      rem -= den;
+      ++q;
     }
   }
 }
 
-// Global size 1 with RASTER_SERIAL, else n + occupied count rounded up.
+// Marks kept echo `cell` (row * WIDTH + col) in the occupied plane when its row is in [lo, hi);
+// with `outside`, writes it straight into the mask when its row is outside the rasterized rows
+// [r0, r1), which no row pass rewrites (the host marks such a cell as well).
+void RasterEcho(int cell, int lo, int hi, int r0, int r1, bool outside,
+                __global uint* occupied, __global uchar* update) {
+  const int r = cell / WIDTH, c = cell % WIDTH;
+  if (r >= lo && r < hi) {
+    RASTER_OR(&occupied[r * RASTER_WORDS + (c >> 5)], 1u << (uint)(c & 31));
+  } else if (outside && (r < r0 || r >= r1)) {
+    update[CELL(r, c)] = UPDATE_OCCUPIED;
+  }
+}
+
+// Global size n + occupied count rounded up (not used with RASTER_SERIAL): work-item i is edge i
+// (i < n) or kept echo i - n.
 __kernel void rasterize_edges(__global const int* job, __global uint* toggles,
                               __global uint* occupied, __global uchar* update) {
-#if RASTER_SERIAL
-  if (get_global_id(0) != 0) return;
-  for (int i = 0; i < job[0] + job[1]; ++i) RasterItem(job, i, toggles, occupied, update);
-#else
-  RasterItem(job, get_global_id(0), toggles, occupied, update);
-#endif
+  const int i = get_global_id(0);
+  const int n = job[0], occupied_count = job[1], r0 = job[2], r1 = job[3];
+  if (i < n) {
+    RasterEdge(job + 4, n, i, r0, r1, toggles);
+  } else if (i < n + occupied_count) {
+    RasterEcho(job[4 + 2 * n + (i - n)], r0, r1, r0, r1, true, occupied, update);
+  }
 }
 
 // Sixteen mask values from sixteen parity and occupied bits (occupied wins), zero on lanes
@@ -226,29 +230,47 @@ bool RasterRowOf(int row_first, int row_end, int* r) {
   return *r < row_end;
 }
 
-// Global size (1, rows rounded up to the work-group) on a CPU, (RASTER_GROUP, rows) elsewhere;
-// rows job[2] .. job[3] - 1. The mask only.
+// The row pass elsewhere than on a CPU: global size (RASTER_GROUP, rows), local size
+// (RASTER_GROUP, 1), work-group g rewrites row row_first + g of [row_first, row_end). With src
+// null it writes the mask of the rasterized rows only. With src == dst it also fuses the mask
+// into the map in place (kernel stage 2 in the same pass; dx = dy = 0). With a pending map
+// shift it runs over every row (row_first 0, row_end HEIGHT), writing
+// dst(r, c) = src(r + dy, c + dx) and fusing the rasterized rows on the way.
+// src/opencl_backend.cpp defers the row pass of Rasterize() to learn which.
 __kernel void rasterize_rows(__global const int* job, __global uint* toggles,
-                             __global uint* occupied, __global uchar* update) {
-  __local uint carry[RASTER_CARRY];
-  int r;
-  if (!RasterRowOf(job[2], job[3], &r)) return;
-  const RasterMap none = {0, 0, 0, 0};
-  RasterRow(job, toggles, occupied, update, none, r, carry);
-}
-
-// rasterize_rows with kernel stage 2 in the same pass, for a Fuse() of exactly the rows just
-// rasterized (src/opencl_backend.cpp defers the row pass for it). With src == dst it runs over
-// the rasterized rows and fuses in place (dx = dy = 0); with a pending map shift it runs over
-// every row (row_first 0, row_end HEIGHT), writing dst(r, c) = src(r + dy, c + dx) and fusing
-// the rasterized rows on the way.
-__kernel void rasterize_rows_fuse(__global const int* job, __global uint* toggles,
-                                  __global uint* occupied, __global uchar* update,
-                                  __global const short* src, __global short* dst, int dx, int dy,
-                                  int row_first, int row_end) {
+                             __global uint* occupied, __global uchar* update,
+                             __global const short* src, __global short* dst, int dx, int dy,
+                             int row_first, int row_end) {
   __local uint carry[RASTER_CARRY];
   int r;
   if (!RasterRowOf(row_first, row_end, &r)) return;
   const RasterMap map = {src, dst, dx, dy};
   RasterRow(job, toggles, occupied, update, map, r, carry);
 }
+
+#if RASTER_SERIAL
+// The whole of stage 1 (and 2) on a CPU: work-item b owns rows [row_first + b * band,
+// row_first + (b + 1) * band) within [row_first, row_end). It toggles the bits of every edge
+// and echo on its rasterized rows, then runs the row pass on its rows with src / dst as
+// rasterize_rows does. Work-item 0 also writes the echoes outside the rasterized rows. Global
+// size: the number of bands, one work-item per group.
+__kernel void rasterize_bands(__global const int* job, __global uint* toggles,
+                              __global uint* occupied, __global uchar* update,
+                              __global const short* src, __global short* dst, int dx, int dy,
+                              int row_first, int row_end, int band) {
+  const int b = get_global_id(0);
+  const int ba = row_first + b * band, bb = min(ba + band, row_end);
+  if (ba >= bb) return;
+  const int n = job[0], occupied_count = job[1], r0 = job[2], r1 = job[3];
+  const int lo = max(ba, r0), hi = min(bb, r1);
+  __global const int* cells = job + 4 + 2 * n;
+  if (lo < hi) {
+    for (int i = 0; i < n; ++i) RasterEdge(job + 4, n, i, lo, hi, toggles);
+  }
+  for (int i = 0; i < occupied_count; ++i) {
+    RasterEcho(cells[i], lo, hi, r0, r1, b == 0, occupied, update);
+  }
+  const RasterMap map = {src, dst, dx, dy};
+  for (int r = ba; r < bb; ++r) RasterRow(job, toggles, occupied, update, map, r, 0);
+}
+#endif

@@ -38,8 +38,10 @@ constexpr std::size_t kCpuRowsPerGroup = 4;
 constexpr std::size_t kGpuGroup = 64;
 constexpr std::size_t kGpuRowGroup = 256;  // at most this many work-items for one row
 constexpr std::size_t kEdgeGroup = 16;     // rasterize_edges, rays_cast: uneven loop lengths
-constexpr std::size_t kCastGroup = 16;     // insight_cast
-constexpr std::size_t kCompactGroup = 256;
+constexpr std::size_t kCastGroup = 16;
+constexpr std::size_t kBandsPerUnit = 4;    // rasterize_bands     // insight_cast
+constexpr std::size_t kCompactGroup = 256;  // insight_compact's one work-group; 32 on a CPU
+constexpr std::size_t kCpuCompactGroup = 32;
 constexpr std::size_t kMaxRasterGroup = 256;
 
 // Initial capacity of the job buffer, in ints: a ScaLa scan (581 beams, ~2000 echoes) fits.
@@ -59,7 +61,7 @@ OpenClBackend::Layout OpenClBackend::MakeLayout(const KernelParams& p) {
 }
 
 std::string OpenClBackend::BuildOptions(const KernelParams& p, int vectors_per_item,
-                                        int raster_group) {
+                                        int raster_group, bool bands) {
   const Layout layout = MakeLayout(p);
   std::ostringstream o;
   o << "-cl-std=CL1.2 -DWIDTH=" << p.width << " -DHEIGHT=" << p.height
@@ -69,7 +71,7 @@ std::string OpenClBackend::BuildOptions(const KernelParams& p, int vectors_per_i
     << p.t_low << ") -DT_HIGH=(" << p.t_high << ") -DOPENING_RADIUS=" << p.opening_radius
     << " -DFIXED_BITS=" << kFixedBits << " -DUPDATE_NONE=" << int(kUpdateNone)
     << " -DUPDATE_FREE=" << int(kUpdateFree) << " -DUPDATE_OCCUPIED=" << int(kUpdateOccupied)
-    << " -DRASTER_GROUP=" << raster_group << " -DRASTER_SERIAL=" << (raster_group == 1 ? 1 : 0);
+    << " -DRASTER_GROUP=" << raster_group << " -DRASTER_SERIAL=" << (bands ? 1 : 0);
   return o.str();
 }
 
@@ -98,13 +100,20 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
       clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_ITEM_SIZES, sizeof max_items, max_items, nullptr),
       "clGetDeviceInfo");
   Check(clGetDeviceInfo(device, CL_DEVICE_TYPE, sizeof type, &type, nullptr), "clGetDeviceInfo");
+  cl_uint units = 1;
+  Check(clGetDeviceInfo(device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof units, &units, nullptr),
+        "clGetDeviceInfo");
+  compute_units_ = std::max<cl_uint>(units, 1);
   const bool cpu = shape == WorkShape::kDevice ? (type & CL_DEVICE_TYPE_CPU) != 0
                                                : shape == WorkShape::kRowPerItem;
 
   // A CPU runs a work-group's items one after the other, so it gets one work-item per row that
-  // loops over the row; a GPU gets about one work-item per 16-cell vector and, in
-  // rasterize_rows, one work-group per row with enough work-items for one 32-cell word each.
-  // Either way all work-items of a row are in one work-group (classify.cl relies on it).
+  // loops over the row, and stage 1 as rasterize_bands, one work-item per band of rows. A GPU
+  // gets about one work-item per 16-cell vector, and stage 1 as rasterize_edges (one work-item
+  // per edge) and rasterize_rows (one work-group per row with enough work-items for one 32-cell
+  // word each). Either way all work-items of a row are in one work-group (classify.cl relies on
+  // it).
+  bands_ = cpu;
   layout_ = MakeLayout(params);
   const std::size_t row_vectors = RoundUp(std::size_t(width), 16) / 16;
   const std::size_t row_cap = std::min({kGpuRowGroup, max_group, max_items[0]});
@@ -116,10 +125,12 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
          std::size_t(raster_group_) * 2 <= raster_cap) {
     raster_group_ *= 2;
   }
-  program_ = device_->EmbeddedProgram(BuildOptions(params, vectors_per_item_, raster_group_));
+  program_ =
+      device_->EmbeddedProgram(BuildOptions(params, vectors_per_item_, raster_group_, bands_));
 
+  const char* row_pass = bands_ ? "rasterize_bands" : "rasterize_rows";
   rasterize_edges_ = MakeKernel("rasterize_edges");
-  rasterize_rows_ = MakeKernel("rasterize_rows");
+  row_mask_ = MakeKernel(row_pass);
   insight_cast_ = MakeKernel("insight_cast");
   insight_compact_ = MakeKernel("insight_compact");
   rays_cast_ = MakeKernel("rays_cast");
@@ -130,8 +141,8 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     rays_fuse_[k] = MakeKernel("rays_fuse");
     hysteresis_[k] = MakeKernel("classify_hysteresis_erode_rows");
     shift_[k] = MakeKernel("shift_map");
-    rows_fuse_[k][0] = MakeKernel("rasterize_rows_fuse");
-    rows_fuse_[k][1] = MakeKernel("rasterize_rows_fuse");
+    row_fuse_[k][0] = MakeKernel(row_pass);
+    row_fuse_[k][1] = MakeKernel(row_pass);
   }
 
   // Buffers.
@@ -176,13 +187,25 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
         "clEnqueueFillBuffer");
 
   // Buffer arguments, set once.
-  const cl_kernel edges = rasterize_edges_.get(), rows = rasterize_rows_.get();
+  const cl_kernel edges = rasterize_edges_.get();
   SetArg(edges, 1, toggles_.get());
   SetArg(edges, 2, occupied_.get());
   SetArg(edges, 3, update_.get());
-  SetArg(rows, 1, toggles_.get());
-  SetArg(rows, 2, occupied_.get());
-  SetArg(rows, 3, update_.get());
+  // The row pass: the mask only (no map), in place on map_[k], or map_[k] shifted into the
+  // other buffer.
+  const cl_mem no_map = nullptr;
+  for (int k = 0; k < 2; ++k) {
+    const cl_kernel kernels[3] = {row_mask_.get(), row_fuse_[k][0].get(), row_fuse_[k][1].get()};
+    const cl_mem src[3] = {no_map, map_[k].get(), map_[k].get()};
+    const cl_mem dst[3] = {no_map, map_[k].get(), map_[1 - k].get()};
+    for (int i = 0; i < 3; ++i) {
+      SetArg(kernels[i], 1, toggles_.get());
+      SetArg(kernels[i], 2, occupied_.get());
+      SetArg(kernels[i], 3, update_.get());
+      SetArg(kernels[i], 4, src[i]);
+      SetArg(kernels[i], 5, dst[i]);
+    }
+  }
   SetArg(rays_cast_.get(), 1, delta_.get());
   SetArg(erode_dilate_.get(), 0, pass_b_.get());
   SetArg(erode_dilate_.get(), 1, pass_a_.get());
@@ -203,14 +226,6 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     SetArg(hysteresis_[k].get(), 0, map_[k].get());
     SetArg(hysteresis_[k].get(), 1, pass_a_.get());
     SetArg(hysteresis_[k].get(), 2, pass_b_.get());
-    for (int shifted = 0; shifted < 2; ++shifted) {
-      const cl_kernel rows_fuse = rows_fuse_[k][shifted].get();
-      SetArg(rows_fuse, 1, toggles_.get());
-      SetArg(rows_fuse, 2, occupied_.get());
-      SetArg(rows_fuse, 3, update_.get());
-      SetArg(rows_fuse, 4, map_[k].get());
-      SetArg(rows_fuse, 5, map_[shifted ? 1 - k : k].get());
-    }
     SetArg(shift_[k].get(), 0, map_[k].get());
     SetArg(shift_[k].get(), 1, map_[1 - k].get());
   }
@@ -233,9 +248,9 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
       std::min({cpu ? kCpuRowsPerGroup : kGpuGroup / row_items_, most / row_items_, max_items[1]}));
   if (raster_group_ == 1) {
     raster_local_[0] = 1;
-    raster_local_[1] = std::min(kCpuRowsPerGroup, LocalSize(rasterize_rows_.get(), max_group));
+    raster_local_[1] = std::min(kCpuRowsPerGroup, LocalSize(row_mask_.get(), max_group));
   } else {
-    if (LocalSize(rasterize_rows_.get(), raster_group_) < std::size_t(raster_group_)) {
+    if (LocalSize(row_mask_.get(), raster_group_) < std::size_t(raster_group_)) {
       throw BackendError("backend opencl: rasterize_rows cannot run work-groups of " +
                          std::to_string(raster_group_) + " on this device");
     }
@@ -246,7 +261,7 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
                          LocalSize(rays_cast_.get(), kEdgeGroup));
   cast_local_ = LocalSize(insight_cast_.get(), kCastGroup);
   cast_global_ = RoundUp(labels, cast_local_);
-  compact_size_ = LocalSize(insight_compact_.get(), kCompactGroup);
+  compact_size_ = LocalSize(insight_compact_.get(), cpu ? kCpuCompactGroup : kCompactGroup);
   Check(clSetKernelArg(insight_compact_.get(), 3, compact_size_ * sizeof(cl_int), nullptr),
         "clSetKernelArg");
 
@@ -301,9 +316,9 @@ void OpenClBackend::GrowJob(std::size_t ints) {
       clCreateBuffer(device_->context(), CL_MEM_READ_ONLY, job_capacity_ * 4, nullptr, &status));
   Check(status, "clCreateBuffer");
   SetArg(rasterize_edges_.get(), 0, job_.get());
-  SetArg(rasterize_rows_.get(), 0, job_.get());
+  SetArg(row_mask_.get(), 0, job_.get());
   SetArg(rays_cast_.get(), 0, job_.get());
-  for (const auto& pair : rows_fuse_) {
+  for (const auto& pair : row_fuse_) {
     for (const opencl::Kernel& k : pair) SetArg(k.get(), 0, job_.get());
   }
 }
@@ -342,14 +357,9 @@ void OpenClBackend::Rasterize(const RasterJob& job) {
   const std::int32_t header[4] = {n, occupied, r0, r1};
   opencl::Event begin, end;
   Upload(header, job.vertices, 2 * std::size_t(n), job.occupied, std::size_t(occupied), &begin);
-  if (n + occupied > 0) {
-    const std::size_t one = 1;
+  if (!bands_ && n + occupied > 0) {  // rasterize_bands does the edges in its row pass
     const std::size_t global = RoundUp(std::size_t(n + occupied), edge_local_);
-    if (raster_group_ == 1) {  // RASTER_SERIAL: one work-item does every edge and echo
-      Launch(rasterize_edges_.get(), 1, &one, &one, end.out());
-    } else {
-      Launch(rasterize_edges_.get(), 1, &global, &edge_local_, end.out());
-    }
+    Launch(rasterize_edges_.get(), 1, &global, &edge_local_, end.out());
   } else {
     end = Retained(begin.get());
   }
@@ -362,25 +372,40 @@ void OpenClBackend::Rasterize(const RasterJob& job) {
 void OpenClBackend::FlushRows() {
   if (!rows_pending_) return;
   rows_pending_ = false;
-  const std::size_t global[2] = {
-      raster_local_[0], RoundUp(std::size_t(pending_end_ - pending_begin_), raster_local_[1])};
-  Launch(rasterize_rows_.get(), 2, global, raster_local_, end_[kRasterStage].out());
+  RowPass(row_mask_.get(), 0, 0, pending_begin_, pending_end_, end_[kRasterStage].out());
+}
+
+void OpenClBackend::RowPass(cl_kernel kernel, int dx, int dy, int first, int end, cl_event* event) {
+  SetArg(kernel, 6, cl_int(dx));
+  SetArg(kernel, 7, cl_int(dy));
+  SetArg(kernel, 8, cl_int(first));
+  SetArg(kernel, 9, cl_int(end));
+  const std::size_t rows = std::size_t(end - first);
+  if (bands_) {
+    // A few bands per compute unit: enough to balance uneven bands, few enough that walking
+    // every edge per band stays cheap.
+    const std::size_t bands = std::min<std::size_t>(rows, kBandsPerUnit * compute_units_);
+    const std::size_t band = (rows + bands - 1) / bands;
+    SetArg(kernel, 10, cl_int(band));
+    const std::size_t global = (rows + band - 1) / band, local = 1;
+    Launch(kernel, 1, &global, &local, event);
+  } else {
+    const std::size_t global[2] = {raster_local_[0], RoundUp(rows, raster_local_[1])};
+    Launch(kernel, 2, global, raster_local_, event);
+  }
 }
 
 void OpenClBackend::Fuse(int row_begin, int row_end) {
   const int r0 = std::max(row_begin, 0), r1 = std::min(row_end, params_.height);
   if (rows_pending_ && r0 == pending_begin_ && r1 == pending_end_) {
     // The row pass, the pending shift (every row) or none (the rasterized rows), the fusion.
-    const cl_kernel kernel = rows_fuse_[current_][shift_pending_ ? 1 : 0].get();
-    const int first = shift_pending_ ? 0 : r0, end = shift_pending_ ? params_.height : r1;
-    SetArg(kernel, 6, cl_int(shift_pending_ ? pending_dx_ : 0));
-    SetArg(kernel, 7, cl_int(shift_pending_ ? pending_dy_ : 0));
-    SetArg(kernel, 8, cl_int(first));
-    SetArg(kernel, 9, cl_int(end));
-    const std::size_t global[2] = {raster_local_[0],
-                                   RoundUp(std::size_t(end - first), raster_local_[1])};
     opencl::Event event;
-    Launch(kernel, 2, global, raster_local_, event.out());
+    if (shift_pending_) {
+      RowPass(row_fuse_[current_][1].get(), pending_dx_, pending_dy_, 0, params_.height,
+              event.out());
+    } else {
+      RowPass(row_fuse_[current_][0].get(), 0, 0, r0, r1, event.out());
+    }
     if (shift_pending_) current_ = 1 - current_;
     shift_pending_ = rows_pending_ = false;
     opencl::Event again = Retained(event.get());

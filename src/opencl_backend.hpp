@@ -51,12 +51,12 @@ class OpenClBackend final : public Backend {
   void WriteFree(const std::uint8_t* src) override;
 
   // Device times from OpenCL event profiling, each from the start of a stage's first command to
-  // the end of its last: rasterize_us = job upload + rasterize_edges (+ rasterize_rows when it
-  // ran on its own), fuse_us = rasterize_rows_fuse (the row pass of stage 1 and the fusion in
-  // one kernel) or fuse; for the conventional model ray upload + rays_cast and rays_fuse;
-  // classify_us = the three classify kernels; insight_us = the insight kernels + reading C_Edge
-  // back. Each measurement is reported once; stages that did not run since the last call keep
-  // the caller's values.
+  // the end of its last. rasterize_us: the job upload and rasterize_edges (GPU shape; the CPU
+  // shape does the edges in the row pass), plus the row pass when it ran on its own; fuse_us:
+  // the row pass of stage 1 with the fusion (and a deferred map shift) folded in, or fuse.
+  // Conventional model: ray upload + rays_cast, and rays_fuse. classify_us: the three classify
+  // kernels. insight_us: the insight kernels and reading C_Edge back. Each measurement is
+  // reported once; stages that did not run since the last call keep the caller's values.
   bool KernelTimes(StageTimes* times) const override;
 
   // The padded cell layout of the device buffers (kernels/common.cl): PAD_Y zero rows above
@@ -70,10 +70,10 @@ class OpenClBackend final : public Backend {
   static Layout MakeLayout(const KernelParams& params);
 
   // The -D build options of the kernels (the program cache's key). `vectors_per_item`: 16-cell
-  // vectors of a row per work-item; `raster_group`: work-group size of rasterize_rows, 1 for
-  // the CPU shape, where rasterize_edges also runs as one work-item.
+  // vectors of a row per work-item; `raster_group`: work-group size of rasterize_rows; `bands`:
+  // stage 1 as rasterize_bands (the CPU shape).
   static std::string BuildOptions(const KernelParams& params, int vectors_per_item,
-                                  int raster_group);
+                                  int raster_group, bool bands);
 
  private:
   enum Stage { kRasterStage, kFuseStage, kClassifyStage, kInSightStage, kStageCount };
@@ -98,6 +98,8 @@ class OpenClBackend final : public Backend {
   void SetStage(Stage stage, opencl::Event begin, opencl::Event end);
   // Enqueues the deferred shift and row pass on their own.
   void Flush();
+  // Enqueues a row-pass kernel over rows [first, end) with a map shift of (dx, dy).
+  void RowPass(cl_kernel kernel, int dx, int dy, int first, int end, cl_event* event);
   void FlushShift();
   void FlushRows();
 
@@ -108,6 +110,8 @@ class OpenClBackend final : public Backend {
   Layout layout_;
   int vectors_per_item_ = 1;
   int raster_group_ = 1;
+  bool bands_ = false;  // stage 1 as rasterize_bands (the CPU shape)
+  std::size_t compute_units_ = 1;
 
   // Device buffers, per-cell ones in the padded layout. The map lives in map_[current_]; the
   // shift writes the other one and flips current_. Kernels that touch the map exist once per
@@ -128,12 +132,14 @@ class OpenClBackend final : public Backend {
   opencl::Mem job_;               // header + vertices + occupied cells, or header + ray ends
   std::size_t job_capacity_ = 0;  // ints
 
-  opencl::Kernel rasterize_edges_, rasterize_rows_, insight_cast_, insight_compact_, rays_cast_;
+  opencl::Kernel rasterize_edges_, insight_cast_, insight_compact_, rays_cast_;
   opencl::Kernel erode_dilate_, dilate_cols_;
   std::array<opencl::Kernel, 2> fuse_, rays_fuse_, hysteresis_, shift_;  // per map buffer
-  // rasterize_rows_fuse per map buffer: [k][0] fuses map_[k] in place, [k][1] shifts map_[k]
-  // into map_[1 - k] and fuses there.
-  std::array<std::array<opencl::Kernel, 2>, 2> rows_fuse_;
+  // The row pass of stage 1 (rasterize_rows, or rasterize_bands on a CPU): the mask only, and
+  // per map buffer k with the fusion, [k][0] in place on map_[k], [k][1] shifting map_[k] into
+  // map_[1 - k] on the way.
+  opencl::Kernel row_mask_;
+  std::array<std::array<opencl::Kernel, 2>, 2> row_fuse_;
 
   // Deferred work. Shift() records the shift, Rasterize() enqueues the upload and
   // rasterize_edges and records the row pass; the Fuse() of the same rows then does the row

@@ -121,7 +121,7 @@ TEST(OpenClRuntime, BrokenKernelThrowsWithTheCompilersLog) {
   const KernelParams params = test::SmallParams(7, 5, 1);
   EXPECT_NO_THROW(opencl::BuildProgram(context->context(), context->device(), opencl::kKernelFiles,
                                        opencl::kKernelFileCount,
-                                       OpenClBackend::BuildOptions(params, 1, 1)));
+                                       OpenClBackend::BuildOptions(params, 1, 1, true)));
 }
 
 TEST(OpenClRuntime, ProgramsAreBuiltOncePerOptions) {
@@ -129,10 +129,10 @@ TEST(OpenClRuntime, ProgramsAreBuiltOncePerOptions) {
   const auto context = opencl::DeviceContext::Get(found);
   EXPECT_EQ(context, opencl::DeviceContext::Get(found));
   const KernelParams a = test::SmallParams(9, 4), b = test::SmallParams(4, 9);
-  const cl_program pa = context->EmbeddedProgram(OpenClBackend::BuildOptions(a, 1, 1));
-  EXPECT_EQ(pa, context->EmbeddedProgram(OpenClBackend::BuildOptions(a, 1, 1)));
-  EXPECT_NE(pa, context->EmbeddedProgram(OpenClBackend::BuildOptions(b, 1, 1)));
-  const std::string options = OpenClBackend::BuildOptions(a, 1, 1);
+  const cl_program pa = context->EmbeddedProgram(OpenClBackend::BuildOptions(a, 1, 1, true));
+  EXPECT_EQ(pa, context->EmbeddedProgram(OpenClBackend::BuildOptions(a, 1, 1, true)));
+  EXPECT_NE(pa, context->EmbeddedProgram(OpenClBackend::BuildOptions(b, 1, 1, true)));
+  const std::string options = OpenClBackend::BuildOptions(a, 1, 1, true);
   EXPECT_NE(options.find("-DWIDTH=9 -DHEIGHT=4"), std::string::npos) << options;
   EXPECT_NE(options.find("-DL_FREE=(" + std::to_string(a.l_free) + ")"), std::string::npos);
 }
