@@ -54,6 +54,10 @@ if [ $rc -eq 0 ]; then
   cmp "$out/tbb/polygons.jsonl" "$out/opencl/polygons.jsonl" \
     || fail "--backend opencl and --backend tbb wrote different polygons.jsonl"
   echo "cli: --backend opencl and --backend tbb wrote identical polygons.jsonl"
+  "$bin" run --log "$log" --out "$out/auto" --backend auto --max-scans 3 --quiet \
+    2>"$out/auto.err" || fail "run --backend auto failed"
+  grep -q "backend auto: using opencl: " "$out/auto.err" \
+    || fail "--backend auto does not say it took opencl: $(cat "$out/auto.err")"
 elif [ $rc -eq 2 ] && grep -q "backend opencl" "$out/opencl.err"; then
   echo "SKIP: backend comparison: --backend opencl is not available here: $(grep -m1 "backend opencl" "$out/opencl.err")"
 else
