@@ -54,35 +54,73 @@ void ClassifyHysteresis(__global const short* map, __global uchar* out, int r, i
   }
 }
 
+// The four window passes work on the masks' bytes only with AND and OR, so where 64 cells of
+// a row lie inside the map and start 64-aligned (PAD_X and STRIDE are multiples of 64) they
+// take them as one ulong8 instead of four uchar16: the same bytes, a quarter of the work. The
+// rest of a row (its last cells, or a work-item's vectors on a GPU) goes 16 cells at a time.
+#define CLASSIFY_WIDE(v, v1) ((v) % 4 == 0 && (v) + 4 <= (v1) && 16 * (v) + 64 <= WIDTH)
+
+// 64 bytes from any address (as whole 16-byte loads).
+ulong8 ClassifyLoad64(__global const uchar* p) {
+  return (ulong8)(as_ulong2(vload16(0, p)), as_ulong2(vload16(1, p)), as_ulong2(vload16(2, p)),
+                  as_ulong2(vload16(3, p)));
+}
+
 // AND of the row window c - OPENING_RADIUS .. c + OPENING_RADIUS.
 void ClassifyErodeRows(__global const uchar* in, __global uchar* out, int r, int v0, int v1) {
-  for (int v = v0; v < v1; ++v) {
+  for (int v = v0; v < v1;) {
     const int k = CELL(r, 16 * v);
-    uchar16 x = (uchar16)(1);
-    for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) x &= vload16(0, in + k + d);
-    *(__global uchar16*)(out + k) = x;
+    if (CLASSIFY_WIDE(v, v1)) {
+      ulong8 x = (ulong8)(~0ul);
+      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) x &= ClassifyLoad64(in + k + d);
+      *(__global ulong8*)(out + k) = x;
+      v += 4;
+    } else {
+      uchar16 x = (uchar16)(1);
+      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) x &= vload16(0, in + k + d);
+      *(__global uchar16*)(out + k) = x;
+      ++v;
+    }
   }
 }
 
 // AND of the column window.
 void ClassifyErodeCols(__global const uchar* in, __global uchar* out, int r, int v0, int v1) {
-  for (int v = v0; v < v1; ++v) {
+  for (int v = v0; v < v1;) {
     const int k = CELL(r, 16 * v);
-    uchar16 x = (uchar16)(1);
-    for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) {
-      x &= *(__global const uchar16*)(in + k + d * STRIDE);
+    if (CLASSIFY_WIDE(v, v1)) {
+      ulong8 x = (ulong8)(~0ul);
+      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) {
+        x &= *(__global const ulong8*)(in + k + d * STRIDE);
+      }
+      *(__global ulong8*)(out + k) = x;
+      v += 4;
+    } else {
+      uchar16 x = (uchar16)(1);
+      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) {
+        x &= *(__global const uchar16*)(in + k + d * STRIDE);
+      }
+      *(__global uchar16*)(out + k) = x;
+      ++v;
     }
-    *(__global uchar16*)(out + k) = x;
   }
 }
 
-// OR of the row window, lanes past the width zeroed.
+// OR of the row window, lanes past the width zeroed (wide chunks lie inside the map).
 void ClassifyDilateRows(__global const uchar* in, __global uchar* out, int r, int v0, int v1) {
-  for (int v = v0; v < v1; ++v) {
+  for (int v = v0; v < v1;) {
     const int k = CELL(r, 16 * v);
-    uchar16 x = (uchar16)(0);
-    for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) x |= vload16(0, in + k + d);
-    *(__global uchar16*)(out + k) = x & convert_uchar16(InsideLanes(16 * v) & 1);
+    if (CLASSIFY_WIDE(v, v1)) {
+      ulong8 x = (ulong8)(0);
+      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) x |= ClassifyLoad64(in + k + d);
+      *(__global ulong8*)(out + k) = x;
+      v += 4;
+    } else {
+      uchar16 x = (uchar16)(0);
+      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) x |= vload16(0, in + k + d);
+      *(__global uchar16*)(out + k) = x & convert_uchar16(InsideLanes(16 * v) & 1);
+      ++v;
+    }
   }
 }
 
@@ -91,13 +129,23 @@ __kernel void classify_dilate_cols(__global const uchar* in, __global uchar* fre
   const int r = get_global_id(1);
   int v0, v1;
   if (r >= HEIGHT || !RowVectors(&v0, &v1)) return;
-  for (int v = v0; v < v1; ++v) {
+  for (int v = v0; v < v1;) {
     const int k = CELL(r, 16 * v);
-    uchar16 x = (uchar16)(0);
-    for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) {
-      x |= *(__global const uchar16*)(in + k + d * STRIDE);
+    if (CLASSIFY_WIDE(v, v1)) {
+      ulong8 x = (ulong8)(0);
+      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) {
+        x |= *(__global const ulong8*)(in + k + d * STRIDE);
+      }
+      *(__global ulong8*)(free + k) = x;
+      v += 4;
+    } else {
+      uchar16 x = (uchar16)(0);
+      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) {
+        x |= *(__global const uchar16*)(in + k + d * STRIDE);
+      }
+      *(__global uchar16*)(free + k) = x;
+      ++v;
     }
-    *(__global uchar16*)(free + k) = x;
   }
 }
 

@@ -5,9 +5,9 @@
 // Every per-cell buffer (map, update mask, free mask, opening intermediates, ray deltas) uses one
 // padded layout: PAD_Y zero rows above and below the map, PAD_X zero columns left of it and at
 // least max(OPENING_RADIUS, 1) plus the rounding to 16 right of it, rows STRIDE cells apart.
-// PAD_X and STRIDE are multiples of 16, so a row's cells start 16-aligned and the kernels work
-// on 16 cells at a time with aligned vector stores (lanes past the map's width are written 0),
-// and neighbour loads (+-1 cell, +-OPENING_RADIUS cells) never leave the buffer. The padding is
+// PAD_X and STRIDE are multiples of 64, so a row's cells start 64-aligned and the kernels work
+// on 16 (or 64) cells at a time with aligned vector stores (lanes past the map's width are
+// written 0), and neighbour loads (+-1 cell, +-OPENING_RADIUS cells) never leave the buffer. The padding is
 // zero on every buffer at all times: no kernel writes it and the host copies only the map's
 // cells in and out (rectangular copies).
 //

@@ -50,12 +50,14 @@ constexpr std::size_t kInitialJobInts = 4 + 2 * 4096 + 8192;
 }  // namespace
 
 OpenClBackend::Layout OpenClBackend::MakeLayout(const KernelParams& p) {
-  // Room for the opening window and the +-1 of the hysteresis on every side; 16-aligned rows.
+  // Room for the opening window and the +-1 of the hysteresis on every side; 64-aligned rows,
+  // so that the kernels can store 16 or 64 cells at once.
   const int pad = std::max(p.opening_radius, 1);
   Layout layout;
-  layout.pad_x = int(RoundUp(std::size_t(pad), 16));
+  layout.pad_x = int(RoundUp(std::size_t(pad), 64));
   layout.pad_y = pad;
-  layout.stride = layout.pad_x + int(RoundUp(RoundUp(std::size_t(p.width), 16) + pad, 16));
+  layout.stride =
+      int(RoundUp(std::size_t(layout.pad_x) + RoundUp(std::size_t(p.width), 16) + pad, 64));
   layout.cells = std::size_t(layout.stride) * std::size_t(p.height + 2 * pad);
   return layout;
 }
