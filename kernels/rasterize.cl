@@ -23,15 +23,24 @@
 // L_MIN, L_MAX, RASTER_GROUP (a power of two up to 256), RASTER_SERIAL (0 or 1), and those of
 // common.cl.
 //
-// The job buffer, written by the host each scan: job[0] vertex count n, job[1] occupied count,
-// job[2] first row, job[3] end row (both clipped to the map and non-empty), then the n vertices
-// (x, y in fixed point, map cell coordinates), then the occupied cells (row * WIDTH + col).
+// The job buffer, written by the host each scan: a header of 8 ints, job[0] vertex count n,
+// job[1] count m of occupied cells on the rasterized rows, job[2] first row r0, job[3] end row
+// r1 (both clipped to the map, r0 < r1), job[4] count of occupied cells on other rows; then
+// the n vertices (x, y in fixed point, map cell coordinates), the m occupied cells on the
+// rasterized rows sorted by row (row * WIDTH + col), r1 - r0 + 1 offsets into them (row r's
+// cells are [offset[r - r0], offset[r - r0 + 1])), and the occupied cells on other rows.
 
 #define RASTER_WORDS ((WIDTH + 31) / 32)
 #define RASTER_FIXED_ONE (1L << FIXED_BITS)
 #define RASTER_FIXED_HALF (RASTER_FIXED_ONE / 2)
 #define RASTER_WORDS_PER_ITEM ((RASTER_WORDS + RASTER_GROUP - 1) / RASTER_GROUP)
 #define RASTER_CARRY ((RASTER_GROUP + 31) / 32)
+
+// The parts of the job buffer.
+#define JOB_VERTICES(job) ((job) + 8)
+#define JOB_CELLS(job) (JOB_VERTICES(job) + 2 * (job)[0])
+#define JOB_OFFSETS(job) (JOB_CELLS(job) + (job)[1])
+#define JOB_OTHER_CELLS(job) (JOB_OFFSETS(job) + (job)[3] - (job)[2] + 1)
 
 // floor(a / b) for b > 0.
 long RasterFloorDiv(long a, long b) {
@@ -89,29 +98,30 @@ void RasterEdge(__global const int* v, int n, int i, long lo, long hi, __global 
   }
 }
 
-// Marks kept echo `cell` (row * WIDTH + col) in the occupied plane when its row is in [lo, hi);
-// with `outside`, writes it straight into the mask when its row is outside the rasterized rows
-// [r0, r1), which no row pass rewrites (the host marks such a cell as well).
-void RasterEcho(int cell, int lo, int hi, int r0, int r1, bool outside,
-                __global uint* occupied, __global uchar* update) {
+// Marks kept echo `cell` (row * WIDTH + col) in the occupied plane.
+void RasterEcho(int cell, __global uint* occupied) {
   const int r = cell / WIDTH, c = cell % WIDTH;
-  if (r >= lo && r < hi) {
-    RASTER_OR(&occupied[r * RASTER_WORDS + (c >> 5)], 1u << (uint)(c & 31));
-  } else if (outside && (r < r0 || r >= r1)) {
-    update[CELL(r, c)] = UPDATE_OCCUPIED;
-  }
+  RASTER_OR(&occupied[r * RASTER_WORDS + (c >> 5)], 1u << (uint)(c & 31));
 }
 
-// Global size n + occupied count rounded up (not used with RASTER_SERIAL): work-item i is edge i
-// (i < n) or kept echo i - n.
+// A kept echo on a row no row pass rewrites goes straight into the mask, as the host does; no
+// other work-item writes that row, so this cannot race.
+void RasterOtherEcho(int cell, __global uchar* update) {
+  update[CELL(cell / WIDTH, cell % WIDTH)] = UPDATE_OCCUPIED;
+}
+
+// Global size n + job[1] + job[4] rounded up (not used with RASTER_SERIAL): work-item i is edge
+// i, or an occupied cell.
 __kernel void rasterize_edges(__global const int* job, __global uint* toggles,
                               __global uint* occupied, __global uchar* update) {
   const int i = get_global_id(0);
-  const int n = job[0], occupied_count = job[1], r0 = job[2], r1 = job[3];
+  const int n = job[0], m = job[1], r0 = job[2], r1 = job[3], other = job[4];
   if (i < n) {
-    RasterEdge(job + 4, n, i, r0, r1, toggles);
-  } else if (i < n + occupied_count) {
-    RasterEcho(job[4 + 2 * n + (i - n)], r0, r1, r0, r1, true, occupied, update);
+    RasterEdge(JOB_VERTICES(job), n, i, r0, r1, toggles);
+  } else if (i < n + m) {
+    RasterEcho(JOB_CELLS(job)[i - n], occupied);
+  } else if (i < n + m + other) {
+    RasterOtherEcho(JOB_OTHER_CELLS(job)[i - n - m], update);
   }
 }
 
@@ -252,8 +262,9 @@ __kernel void rasterize_rows(__global const int* job, __global uint* toggles,
 // The whole of stage 1 (and 2) on a CPU: work-item b owns rows [row_first + b * band,
 // row_first + (b + 1) * band) within [row_first, row_end). It toggles the bits of every edge
 // and echo on its rasterized rows, then runs the row pass on its rows with src / dst as
-// rasterize_rows does. Work-item 0 also writes the echoes outside the rasterized rows. Global
-// size: the number of bands, one work-item per group.
+// rasterize_rows does; the host sorted the occupied cells by row, so each band reads only its
+// own. Work-item 0 also writes the echoes outside the rasterized rows. Global size: the number
+// of bands, one work-item per group.
 __kernel void rasterize_bands(__global const int* job, __global uint* toggles,
                               __global uint* occupied, __global uchar* update,
                               __global const short* src, __global short* dst, int dx, int dy,
@@ -261,14 +272,16 @@ __kernel void rasterize_bands(__global const int* job, __global uint* toggles,
   const int b = get_global_id(0);
   const int ba = row_first + b * band, bb = min(ba + band, row_end);
   if (ba >= bb) return;
-  const int n = job[0], occupied_count = job[1], r0 = job[2], r1 = job[3];
+  const int n = job[0], r0 = job[2], r1 = job[3];
   const int lo = max(ba, r0), hi = min(bb, r1);
-  __global const int* cells = job + 4 + 2 * n;
   if (lo < hi) {
-    for (int i = 0; i < n; ++i) RasterEdge(job + 4, n, i, lo, hi, toggles);
+    for (int i = 0; i < n; ++i) RasterEdge(JOB_VERTICES(job), n, i, lo, hi, toggles);
+    __global const int* cells = JOB_CELLS(job);
+    __global const int* offsets = JOB_OFFSETS(job);
+    for (int i = offsets[lo - r0]; i < offsets[hi - r0]; ++i) RasterEcho(cells[i], occupied);
   }
-  for (int i = 0; i < occupied_count; ++i) {
-    RasterEcho(cells[i], lo, hi, r0, r1, b == 0, occupied, update);
+  if (b == 0) {
+    for (int i = 0; i < job[4]; ++i) RasterOtherEcho(JOB_OTHER_CELLS(job)[i], update);
   }
   const RasterMap map = {src, dst, dx, dy};
   for (int r = ba; r < bb; ++r) RasterRow(job, toggles, occupied, update, map, r, 0);

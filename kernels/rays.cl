@@ -6,15 +6,15 @@
 //
 // Build options: L_FREE, L_OCCUPIED, L_MIN, L_MAX (and those of common.cl).
 //
-// The job buffer, written by the host each scan: job[0] ray count, job[1] origin column,
-// job[2] origin row, job[3] unused, then the end cells (col, row) of the rays. Origins and
+// The job buffer, written by the host each scan: a header of 8 ints, job[0] ray count, job[1]
+// origin column, job[2] origin row, then the end cells (col, row) of the rays. Origins and
 // ends may lie outside the map; cells outside are skipped.
 
 __kernel void rays_cast(__global const int* job, __global int* delta) {
   const int i = get_global_id(0);
   if (i >= job[0]) return;
   const int x0 = job[1], y0 = job[2];
-  const int x1 = job[4 + 2 * i], y1 = job[4 + 2 * i + 1];
+  const int x1 = job[8 + 2 * i], y1 = job[8 + 2 * i + 1];
   const int dx = (int)abs(x1 - x0), sx = x0 < x1 ? 1 : -1;
   const int dy = -(int)abs(y1 - y0), sy = y0 < y1 ? 1 : -1;
   int err = dx + dy;

@@ -45,7 +45,7 @@ constexpr std::size_t kCpuCompactGroup = 32;
 constexpr std::size_t kMaxRasterGroup = 256;
 
 // Initial capacity of the job buffer, in ints: a ScaLa scan (581 beams, ~2000 echoes) fits.
-constexpr std::size_t kInitialJobInts = 4 + 2 * 4096 + 8192;
+constexpr std::size_t kInitialJobInts = 8 + 2 * 4096 + 8192 + 8193;
 
 }  // namespace
 
@@ -171,6 +171,7 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   delta_ = buffer(padded * 4);
   GrowJob(kInitialJobInts);
   edges_host_.assign(labels + 1, 0);
+  row_counts_.assign(std::size_t(height) + 1, 0);
 
   // Initial contents: every cell buffer zero (the map unknown, the padding zero for good), the
   // bit planes zero, T empty.
@@ -325,22 +326,19 @@ void OpenClBackend::GrowJob(std::size_t ints) {
   }
 }
 
-void OpenClBackend::Upload(const std::int32_t (&header)[4], const std::int32_t* a,
-                           std::size_t a_count, const std::int32_t* b, std::size_t b_count,
-                           opencl::Event* event) {
-  const std::size_t total = 4 + a_count + b_count;
-  if (total > job_capacity_) GrowJob(total);
+std::int32_t* OpenClBackend::Staging(std::size_t ints) {
+  if (ints > job_capacity_) GrowJob(ints);
   if (upload_done_) {
     // Normally long finished: the scan that made it ended with a blocking read.
     const cl_event wait = upload_done_.get();
     Check(clWaitForEvents(1, &wait), "clWaitForEvents");
   }
-  std::int32_t* staging = job_host_.data();
-  std::memcpy(staging, header, sizeof header);
-  if (a_count > 0) std::memcpy(staging + 4, a, a_count * 4);
-  if (b_count > 0) std::memcpy(staging + 4 + a_count, b, b_count * 4);
-  Check(clEnqueueWriteBuffer(queue_.get(), job_.get(), CL_FALSE, 0, total * 4, staging, 0, nullptr,
-                             event->out()),
+  return job_host_.data();
+}
+
+void OpenClBackend::Upload(std::size_t ints, opencl::Event* event) {
+  Check(clEnqueueWriteBuffer(queue_.get(), job_.get(), CL_FALSE, 0, ints * 4, job_host_.data(), 0,
+                             nullptr, event->out()),
         "clEnqueueWriteBuffer");
   upload_done_ = Retained(event->get());
 }
@@ -355,12 +353,47 @@ void OpenClBackend::Rasterize(const RasterJob& job) {
   const int r0 = std::max(job.row_begin, 0);
   const int r1 = std::min(job.row_end, params_.height);
   if (r0 >= r1) return;
-  const int n = std::max(job.vertex_count, 0), occupied = std::max(job.occupied_count, 0);
-  const std::int32_t header[4] = {n, occupied, r0, r1};
+  const int n = std::max(job.vertex_count, 0), listed = std::max(job.occupied_count, 0);
+  const int width = params_.width, rows = r1 - r0;
+
+  // The occupied cells sorted by row (a counting sort), so that a band of rows finds its own:
+  // count[j] becomes the first cell of row r0 + j, then the next free place of that row.
+  std::int32_t* count = row_counts_.data();
+  std::fill(count, count + rows + 1, 0);
+  int other = 0;
+  for (int i = 0; i < listed; ++i) {
+    const int r = job.occupied[i] / width;
+    if (r >= r0 && r < r1) {
+      ++count[r - r0 + 1];
+    } else {
+      ++other;
+    }
+  }
+  for (int j = 1; j <= rows; ++j) count[j] += count[j - 1];
+  const int m = count[rows];
+  const std::size_t ints =
+      8 + 2 * std::size_t(n) + std::size_t(m) + std::size_t(rows) + 1 + std::size_t(other);
+  std::int32_t* staging = Staging(ints);
+  const std::int32_t header[8] = {n, m, r0, r1, other, 0, 0, 0};
+  std::memcpy(staging, header, sizeof header);
+  if (n > 0) std::memcpy(staging + 8, job.vertices, 2 * std::size_t(n) * 4);
+  std::int32_t* cells = staging + 8 + 2 * std::size_t(n);
+  std::int32_t* offsets = cells + m;
+  std::int32_t* others = offsets + rows + 1;
+  std::memcpy(offsets, count, (std::size_t(rows) + 1) * 4);
+  for (int i = 0, o = 0; i < listed; ++i) {
+    const std::int32_t cell = job.occupied[i];
+    const int r = cell / width;
+    if (r >= r0 && r < r1) {
+      cells[count[r - r0]++] = cell;
+    } else {
+      others[o++] = cell;
+    }
+  }
   opencl::Event begin, end;
-  Upload(header, job.vertices, 2 * std::size_t(n), job.occupied, std::size_t(occupied), &begin);
-  if (!bands_ && n + occupied > 0) {  // rasterize_bands does the edges in its row pass
-    const std::size_t global = RoundUp(std::size_t(n + occupied), edge_local_);
+  Upload(ints, &begin);
+  if (!bands_ && n + listed > 0) {  // rasterize_bands does the edges in its row pass
+    const std::size_t global = RoundUp(std::size_t(n + listed), edge_local_);
     Launch(rasterize_edges_.get(), 1, &global, &edge_local_, end.out());
   } else {
     end = Retained(begin.get());
@@ -429,9 +462,13 @@ void OpenClBackend::CastRays(const RayJob& job) {
   Flush();
   const int n = std::max(job.ray_count, 0);
   if (n == 0) return;
-  const std::int32_t header[4] = {n, job.origin_col, job.origin_row, 0};
+  const std::size_t ints = 8 + 2 * std::size_t(n);
+  std::int32_t* staging = Staging(ints);
+  const std::int32_t header[8] = {n, job.origin_col, job.origin_row, 0, 0, 0, 0, 0};
+  std::memcpy(staging, header, sizeof header);
+  std::memcpy(staging + 8, job.ends, 2 * std::size_t(n) * 4);
   opencl::Event begin, end;
-  Upload(header, job.ends, 2 * std::size_t(n), nullptr, 0, &begin);
+  Upload(ints, &begin);
   const std::size_t global = RoundUp(std::size_t(n), edge_local_);
   Launch(rays_cast_.get(), 1, &global, &edge_local_, end.out());
   SetStage(kRasterStage, std::move(begin), std::move(end));

@@ -83,10 +83,11 @@ class OpenClBackend final : public Backend {
   std::size_t LocalSize(cl_kernel kernel, std::size_t preferred) const;
   void Launch(cl_kernel kernel, cl_uint dims, const std::size_t* global, const std::size_t* local,
               cl_event* event);
-  // Copies a 4-int header and `a`, `b` into the job buffer with a non-blocking write whose
-  // event becomes `*event` (and upload_done_).
-  void Upload(const std::int32_t (&header)[4], const std::int32_t* a, std::size_t a_count,
-              const std::int32_t* b, std::size_t b_count, opencl::Event* event);
+  // The staging area for an upload of `ints` ints, once the previous upload is done with it.
+  std::int32_t* Staging(std::size_t ints);
+  // Writes the first `ints` ints of the staging area into the job buffer, not blocking; the
+  // write's event becomes `*event` (and upload_done_).
+  void Upload(std::size_t ints, opencl::Event* event);
   void GrowJob(std::size_t ints);
   void Fill(cl_mem buffer, std::size_t bytes);
   // Copies the map's cells of a padded buffer of `element`-byte cells to or from host memory
@@ -129,7 +130,7 @@ class OpenClBackend final : public Backend {
   opencl::Mem stop_;              // stage 4: stop cell per label
   opencl::Mem edges_;             // stage 4 output: count, then C_Edge cells
   opencl::Mem delta_;             // conventional model: per-cell sum of one scan's rays
-  opencl::Mem job_;               // header + vertices + occupied cells, or header + ray ends
+  opencl::Mem job_;               // the raster or ray job (rasterize.cl, rays.cl)
   std::size_t job_capacity_ = 0;  // ints
 
   opencl::Kernel rasterize_edges_, insight_cast_, insight_compact_, rays_cast_;
@@ -160,6 +161,7 @@ class OpenClBackend final : public Backend {
 
   std::vector<std::int32_t> job_host_;    // staging of the job upload
   std::vector<std::int32_t> edges_host_;  // C_Edge as read back
+  std::vector<std::int32_t> row_counts_;  // counting sort of the occupied cells by row
   opencl::Event upload_done_;             // the last upload from job_host_
 
   mutable std::array<opencl::Event, kStageCount> begin_, end_;
