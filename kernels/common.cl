@@ -7,9 +7,9 @@
 // least max(OPENING_RADIUS, 1) plus the rounding to 16 right of it, rows STRIDE cells apart.
 // PAD_X and STRIDE are multiples of 64, so a row's cells start 64-aligned and the kernels work
 // on 16 (or 64) cells at a time with aligned vector stores (lanes past the map's width are
-// written 0), and neighbour loads (+-1 cell, +-OPENING_RADIUS cells) never leave the buffer. The padding is
-// zero on every buffer at all times: no kernel writes it and the host copies only the map's
-// cells in and out (rectangular copies).
+// written 0), and neighbour loads (+-1 cell, +-OPENING_RADIUS cells) never leave the buffer. The
+// padding is zero on every buffer at all times: no kernel writes it and the host copies only the
+// map's cells in and out (rectangular copies).
 //
 // Kernels over cells take global size (row items, rows): work-item (x, r) handles the 16-cell
 // vectors [x * VECTORS_PER_ITEM, (x + 1) * VECTORS_PER_ITEM) of row r (a whole row on a CPU,
