@@ -72,7 +72,9 @@ std::unique_ptr<Backend> CreateBackend(const BackendConfig& backend, const Kerne
     case BackendKind::kAuto:
 #ifdef FREESPACE_WITH_OPENCL
       try {
-        return std::make_unique<OpenClBackend>(params, backend);
+        auto opencl = std::make_unique<OpenClBackend>(params, backend);
+        std::cerr << "freespace: backend auto: using " << opencl->name() << "\n";
+        return opencl;
       } catch (const BackendError& e) {
         std::cerr << "freespace: backend auto: OpenCL not usable (" << e.what() << "); using tbb\n";
       }

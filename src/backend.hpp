@@ -132,6 +132,11 @@ class Backend {
   // Sets every cell unknown.
   virtual void Clear() = 0;
 
+  // Waits until every stage called so far has finished. Stages may run asynchronously (the
+  // OpenCL backend enqueues them); InSight() and the Read*() copies wait on their own. The host
+  // backend runs stages synchronously, so this does nothing there.
+  virtual void Finish() {}
+
   // Copies between the backend's buffers and host memory (width * height elements). For
   // views, snapshots and tests; not used on the per-scan path.
   virtual void ReadLogOdds(LogOdds* dst) = 0;

@@ -49,4 +49,40 @@ printf 'map:\n  resolution_m: -0.5\n' >"$out/bad.yaml"
 [ $? -eq 2 ] || fail "bad config must exit 2"
 grep -q "map.resolution_m = -0.5" "$out/cfg.err" || fail "config error does not name the field"
 
+# The backends: --backend opencl and --backend tbb write identical polygons on the same log.
+# Without a usable OpenCL device (or an OpenCL build) the comparison is skipped, saying why.
+"$bin" run --log "$log" --out "$out/tbb" --backend tbb --snapshot-every 0 --quiet 2>/dev/null \
+  || fail "run --backend tbb failed"
+"$bin" run --log "$log" --out "$out/opencl" --backend opencl --snapshot-every 0 --quiet \
+  2>"$out/opencl.err"
+rc=$?
+if [ $rc -eq 0 ]; then
+  grep -q "backend opencl: " "$out/opencl.err" || fail "run --backend opencl does not name its device"
+  cmp "$out/tbb/polygons.jsonl" "$out/opencl/polygons.jsonl" \
+    || fail "--backend opencl and --backend tbb wrote different polygons.jsonl"
+  echo "cli: --backend opencl and --backend tbb wrote identical polygons.jsonl"
+  "$bin" run --log "$log" --out "$out/auto" --backend auto --max-scans 3 --quiet \
+    2>"$out/auto.err" || fail "run --backend auto failed"
+  grep -q "backend auto: using opencl: " "$out/auto.err" \
+    || fail "--backend auto does not say it took opencl: $(cat "$out/auto.err")"
+elif [ $rc -eq 2 ] && grep -q "backend opencl" "$out/opencl.err"; then
+  echo "SKIP: backend comparison: --backend opencl is not available here: $(grep -m1 "backend opencl" "$out/opencl.err")"
+else
+  fail "run --backend opencl failed with exit code $rc: $(cat "$out/opencl.err")"
+fi
+
+# No OpenCL platform (an empty ICD vendor directory): opencl is a setup error naming what is
+# missing, auto falls back to tbb and says so.
+mkdir -p "$out/no-icd"
+OCL_ICD_VENDORS="$out/no-icd" "$bin" run --log "$log" --out "$out/no-icd-run" --backend opencl \
+  --max-scans 3 --quiet 2>"$out/no-icd.err"
+rc=$?
+[ $rc -eq 2 ] || fail "--backend opencl without a platform must exit 2, got $rc"
+grep -q -e "no OpenCL platform (ICD loader found none)" -e "has no OpenCL backend" \
+  "$out/no-icd.err" || fail "no-platform error not explained: $(cat "$out/no-icd.err")"
+OCL_ICD_VENDORS="$out/no-icd" "$bin" run --log "$log" --out "$out/no-icd-auto" --backend auto \
+  --max-scans 3 --quiet 2>"$out/no-icd-auto.err" || fail "--backend auto without OpenCL failed"
+grep -q "backend auto: .*using tbb" "$out/no-icd-auto.err" \
+  || fail "--backend auto does not say it took tbb: $(cat "$out/no-icd-auto.err")"
+
 echo "cli: all cases passed"

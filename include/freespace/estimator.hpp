@@ -43,12 +43,13 @@ struct ScanStats {
 };
 
 // Microseconds spent per stage for this scan (wall clock on the host; OpenCL event times for
-// the kernel stages on the OpenCL backend).
+// the kernel stages on the OpenCL backend, which folds the map shift and the fusion into the
+// row pass of stage 1: see docs/opencl.md).
 struct StageTimes {
   double preprocess_us = 0;  // validation, DBSCAN, virtual points, projection
-  double align_us = 0;       // vehicle on a circle, including the map shift
+  double align_us = 0;       // vehicle on a circle, including the map shift (host backend)
   double rasterize_us = 0;   // kernel stage 1
-  double fuse_us = 0;        // kernel stage 2
+  double fuse_us = 0;        // kernel stage 2 (OpenCL: with stage 1's row pass and the shift)
   double classify_us = 0;    // kernel stage 3: hysteresis + opening
   double insight_us = 0;     // kernel stage 4: border rays, C_Edge
   double polygon_us = 0;     // capped Douglas-Peucker, world coordinates

@@ -1,0 +1,54 @@
+// Definitions shared by every kernel file. The program is this file followed by the stage files
+// (rasterize.cl, fuse.cl, classify.cl, insight.cl, shift.cl, rays.cl), built once per map size
+// and parameter set; see src/opencl_backend.cpp for the build options.
+//
+// Every per-cell buffer (map, update mask, free mask, opening intermediates, ray deltas) uses one
+// padded layout: PAD_Y zero rows above and below the map, PAD_X zero columns left of it and at
+// least max(OPENING_RADIUS, 1) plus the rounding to 16 right of it, rows STRIDE cells apart.
+// PAD_X and STRIDE are multiples of 64, so a row's cells start 64-aligned and the kernels work
+// on 16 (or 64) cells at a time with aligned vector stores (lanes past the map's width are
+// written 0), and neighbour loads (+-1 cell, +-OPENING_RADIUS cells) never leave the buffer. The
+// padding is zero on every buffer at all times: no kernel writes it and the host copies only the
+// map's cells in and out (rectangular copies).
+//
+// Kernels over cells take global size (row items, rows): work-item (x, r) handles the 16-cell
+// vectors [x * VECTORS_PER_ITEM, (x + 1) * VECTORS_PER_ITEM) of row r (a whole row on a CPU,
+// one or a few vectors on a GPU). All row items of a row are in one work-group, so a kernel
+// may pass a row between its work-items through global memory and a barrier. Extra rows from
+// rounding up to whole work-groups do nothing.
+//
+// Build options: WIDTH, HEIGHT, PAD_X, PAD_Y, STRIDE, VECTORS_PER_ITEM.
+
+// Index of map cell (row r, column c) in a padded buffer.
+#define CELL(r, c) (((r) + PAD_Y) * STRIDE + PAD_X + (c))
+// 16-cell vectors per row.
+#define ROW_VECTORS ((WIDTH + 15) / 16)
+
+// The vectors of row `r` this work-item handles: [*v0, *v1). False when it has none.
+bool RowVectors(int* v0, int* v1) {
+  *v0 = (int)get_global_id(0) * VECTORS_PER_ITEM;
+  *v1 = min(*v0 + VECTORS_PER_ITEM, ROW_VECTORS);
+  return *v0 < *v1;
+}
+
+// Lane i of the vector starting at column c0 is inside the map: -1 (all bits) inside, else 0.
+int16 InsideLanes(int c0) {
+  const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  return lane < (int16)(WIDTH - c0);
+}
+
+// Map cells (row r, columns c0 .. c0 + 15) after a shift of the map by whole cells:
+// src(r + dy, c + dx), 0 where that cell is outside the map, and 0 past the width. The load
+// may start outside the source row (|dx| < WIDTH, |dy| < HEIGHT): it stays inside the padded
+// buffer. Two 16-byte loads: an unaligned vload16 of shorts may be split into many small
+// loads, one of bytes is not.
+short16 ShiftedCells(__global const short* src, int r, int c0, int dx, int dy) {
+  const int sr = r + dy;
+  if (sr < 0 || sr >= HEIGHT) return (short16)(0);
+  __global const uchar* bytes = (__global const uchar*)(src + CELL(sr, c0 + dx));
+  const short16 old = (short16)(as_short8(vload16(0, bytes)), as_short8(vload16(1, bytes)));
+  const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const int16 sc = lane + (int16)(c0 + dx);
+  const int16 keep = (sc >= (int16)(0)) & (sc < (int16)(WIDTH)) & InsideLanes(c0);
+  return select((short16)(0), old, convert_short16(keep));
+}

@@ -1,0 +1,289 @@
+// Kernel stage 1: the enhanced inverse sensor model (paper II). The full-scan polygon is
+// rasterized into the per-scan update mask by the even-odd rule and the kept echoes are marked
+// occupied. Mirrors host/rasterize.cpp bit for bit: each polygon edge toggles a parity bit at
+// the first column whose centre lies right of its crossing with a row's centre line (integer
+// geometry in 1/256 cell, 64-bit), and a prefix XOR along each row turns parity into inside /
+// outside. A centre exactly on an edge counts as left of it.
+//
+// Edges toggle parity bits and kept echoes set bits in two bit planes (parity toggles,
+// occupied): one bit per cell, 32 cells a word, each row padded to whole words. The row pass
+// scans each row's toggles, writes the row of the (padded) update mask and clears both planes
+// for the next scan; bits make the prefix XOR a few word operations and let edges meet in any
+// order (XOR commutes). The row pass can also fuse the mask into the map (kernel stage 2,
+// fuse.cl's arithmetic) and apply a pending map shift (shift.cl) on the way, so that a scan
+// reads and writes each row once.
+//
+// Two shapes, both exact:
+//   elsewhere than on a CPU: rasterize_edges, one work-item per edge and per echo with atomics,
+//     then rasterize_rows, one work-group of RASTER_GROUP work-items per row;
+//   on a CPU (RASTER_SERIAL 1, RASTER_GROUP 1): rasterize_bands alone, one work-item per band
+//     of rows walking every edge and echo for its rows without atomics, then its rows.
+//
+// Build options: FIXED_BITS, UPDATE_NONE, UPDATE_FREE, UPDATE_OCCUPIED, L_FREE, L_OCCUPIED,
+// L_MIN, L_MAX, RASTER_GROUP (a power of two up to 256), RASTER_SERIAL (0 or 1), and those of
+// common.cl.
+//
+// The job buffer, written by the host each scan: a header of 8 ints, job[0] vertex count n,
+// job[1] count m of occupied cells on the rasterized rows, job[2] first row r0, job[3] end row
+// r1 (both clipped to the map, r0 < r1), job[4] count of occupied cells on other rows; then
+// the n vertices (x, y in fixed point, map cell coordinates), the m occupied cells on the
+// rasterized rows sorted by row (row * WIDTH + col), r1 - r0 + 1 offsets into them (row r's
+// cells are [offset[r - r0], offset[r - r0 + 1])), and the occupied cells on other rows.
+
+#define RASTER_WORDS ((WIDTH + 31) / 32)
+#define RASTER_FIXED_ONE (1L << FIXED_BITS)
+#define RASTER_FIXED_HALF (RASTER_FIXED_ONE / 2)
+#define RASTER_WORDS_PER_ITEM ((RASTER_WORDS + RASTER_GROUP - 1) / RASTER_GROUP)
+#define RASTER_CARRY ((RASTER_GROUP + 31) / 32)
+
+// The parts of the job buffer.
+#define JOB_VERTICES(job) ((job) + 8)
+#define JOB_CELLS(job) (JOB_VERTICES(job) + 2 * (job)[0])
+#define JOB_OFFSETS(job) (JOB_CELLS(job) + (job)[1])
+#define JOB_OTHER_CELLS(job) (JOB_OFFSETS(job) + (job)[3] - (job)[2] + 1)
+
+// floor(a / b) for b > 0.
+long RasterFloorDiv(long a, long b) {
+  const long q = a / b;
+  return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+
+// The edge (x0, y0) -> (x1, y1) crosses the centre line yc = 256 r + 128 of row r at
+// x = x0 + (yc - y0) * (x1 - x0) / (y1 - y0); the first column whose centre 256 c + 128 lies
+// right of it is c = floor((x - 128) / 256) + 1 = floor(num / den) + 1 with
+//   num = (x0 - 128) * (y1 - y0) + (yc - y0) * (x1 - x0),  den = (y1 - y0) * 256,
+// signs flipped so that den > 0 (host/rasterize.cpp, CrossingColumn). From one row to the next
+// num grows by 256 (x1 - x0), so the kernel steps the quotient and remainder of that division
+// instead of dividing per row: the same integers, two divisions per edge.
+// On a CPU (RASTER_SERIAL 1) each work-item of rasterize_bands owns a band of rows and sets
+// their bits without atomics. Elsewhere every edge and echo is a work-item of rasterize_edges,
+// and the bits are set with atomics.
+#if RASTER_SERIAL
+#define RASTER_XOR(p, bits) (*(p) ^= (bits))
+#define RASTER_OR(p, bits) (*(p) |= (bits))
+#else
+#define RASTER_XOR(p, bits) atomic_xor((p), (bits))
+#define RASTER_OR(p, bits) atomic_or((p), (bits))
+#endif
+
+// Toggles the parity bits of edge i of the ring `v` (n vertices) on its rows within [lo, hi).
+void RasterEdge(__global const int* v, int n, int i, long lo, long hi, __global uint* toggles) {
+  const int j = i + 1 == n ? 0 : i + 1;
+  const long x0 = v[2 * i], y0 = v[2 * i + 1];
+  const long x1 = v[2 * j], y1 = v[2 * j + 1];
+  if (y0 == y1) return;
+  const long ylo = min(y0, y1), yhi = max(y0, y1);
+  // Rows whose centre yc = 256 r + 128 satisfies ylo <= yc < yhi.
+  const long ra =
+      max(RasterFloorDiv(ylo - RASTER_FIXED_HALF + RASTER_FIXED_ONE - 1, RASTER_FIXED_ONE), lo);
+  const long rb =
+      min(RasterFloorDiv(yhi - RASTER_FIXED_HALF + RASTER_FIXED_ONE - 1, RASTER_FIXED_ONE), hi);
+  if (ra >= rb) return;
+  const long sign = y1 > y0 ? 1 : -1;
+  const long den = sign * (y1 - y0) * RASTER_FIXED_ONE;
+  const long num = sign * ((x0 - RASTER_FIXED_HALF) * (y1 - y0) +
+                           (ra * RASTER_FIXED_ONE + RASTER_FIXED_HALF - y0) * (x1 - x0));
+  const long step = sign * RASTER_FIXED_ONE * (x1 - x0);
+  long q = RasterFloorDiv(num, den), rem = num - q * den;
+  const long step_q = RasterFloorDiv(step, den), step_rem = step - step_q * den;
+  for (long r = ra; r < rb; ++r) {
+    const long k = clamp(q + 1, 0L, (long)WIDTH);
+    if (k < WIDTH) RASTER_XOR(&toggles[r * RASTER_WORDS + (k >> 5)], 1u << (uint)(k & 31));
+    q += step_q;
+    rem += step_rem;
+    if (rem >= den) {
+      rem -= den;
+      ++q;
+    }
+  }
+}
+
+// Marks kept echo `cell` (row * WIDTH + col) in the occupied plane.
+void RasterEcho(int cell, __global uint* occupied) {
+  const int r = cell / WIDTH, c = cell % WIDTH;
+  RASTER_OR(&occupied[r * RASTER_WORDS + (c >> 5)], 1u << (uint)(c & 31));
+}
+
+// A kept echo on a row no row pass rewrites goes straight into the mask, as the host does; no
+// other work-item writes that row, so this cannot race.
+void RasterOtherEcho(int cell, __global uchar* update) {
+  update[CELL(cell / WIDTH, cell % WIDTH)] = UPDATE_OCCUPIED;
+}
+
+// Global size n + job[1] + job[4] rounded up (not used with RASTER_SERIAL): work-item i is edge
+// i, or an occupied cell.
+__kernel void rasterize_edges(__global const int* job, __global uint* toggles,
+                              __global uint* occupied, __global uchar* update) {
+  const int i = get_global_id(0);
+  const int n = job[0], m = job[1], r0 = job[2], r1 = job[3], other = job[4];
+  if (i < n) {
+    RasterEdge(JOB_VERTICES(job), n, i, r0, r1, toggles);
+  } else if (i < n + m) {
+    RasterEcho(JOB_CELLS(job)[i - n], occupied);
+  } else if (i < n + m + other) {
+    RasterOtherEcho(JOB_OTHER_CELLS(job)[i - n - m], update);
+  }
+}
+
+// Sixteen mask values from sixteen parity and occupied bits (occupied wins), zero on lanes
+// past the map's width (c0 is the column of lane 0).
+uchar16 RasterExpand16(uint parity, uint occupied, int c0) {
+  const uint16 lane = (uint16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const uint16 p = ((uint16)(parity) >> lane) & 1u;
+  const uint16 o = ((uint16)(occupied) >> lane) & 1u;
+  const uint16 inside = select((uint16)(UPDATE_NONE), (uint16)(UPDATE_FREE), p != 0u);
+  const uint16 value = select(inside, (uint16)(UPDATE_OCCUPIED), o != 0u);
+  return convert_uchar16(select((uint16)(0), value, InsideLanes(c0)));
+}
+
+// Kernel stage 2 folded into the row pass (fuse.cl's arithmetic): fuses the mask vector `u` of
+// columns c0 .. c0 + 15 into the map cells `m` and stores them at `out`.
+void RasterFuse16(short16 m, uchar16 u, int c0, __global short* out) {
+  const int16 value = convert_int16(u);
+  const int16 delta = select(select((int16)(0), (int16)(L_OCCUPIED), value == UPDATE_OCCUPIED),
+                             (int16)(L_FREE), value == UPDATE_FREE);
+  const int16 fused = clamp(convert_int16(m) + delta, L_MIN, L_MAX);
+  *(__global short16*)out = convert_short16(select((int16)(0), fused, InsideLanes(c0)));
+}
+
+// What the row pass does to the map besides writing the mask: nothing (src null), fuse in
+// place (src == dst), or shift src into dst by (dx, dy) and fuse there.
+typedef struct {
+  __global const short* src;
+  __global short* dst;
+  int dx, dy;
+} RasterMap;
+
+// Turns words [w0, w1) of row r into mask values; `fill` is all ones when the parity left of
+// word w0 is odd. Clears the words of both planes for the next scan, and fuses into the map.
+void RasterWords(__global uint* toggles, __global uint* occupied, __global uchar* update,
+                 RasterMap map, int r, int w0, int w1, uint fill) {
+  __global uint* row_toggles = toggles + r * RASTER_WORDS;
+  __global uint* row_occupied = occupied + r * RASTER_WORDS;
+  for (int w = w0; w < w1; ++w) {
+    uint x = row_toggles[w];
+    const uint o = row_occupied[w];
+    row_toggles[w] = 0;
+    row_occupied[w] = 0;
+    // Inclusive prefix XOR of the word's bits, then the parity carried in from the left.
+    x ^= x << 1;
+    x ^= x << 2;
+    x ^= x << 4;
+    x ^= x << 8;
+    x ^= x << 16;
+    x ^= fill;
+    fill = (x >> 31) ? 0xffffffffu : 0u;
+    // Whole aligned vectors: the padded row has room up to the next multiple of 32 columns.
+    const int c0 = 32 * w, k = CELL(r, c0);
+    const uchar16 lo = RasterExpand16(x, o, c0), hi = RasterExpand16(x >> 16, o >> 16, c0 + 16);
+    *(__global uchar16*)(update + k) = lo;
+    *(__global uchar16*)(update + k + 16) = hi;
+    if (map.src == 0) continue;
+    const short16 m_lo = ShiftedCells(map.src, r, c0, map.dx, map.dy);
+    const short16 m_hi = ShiftedCells(map.src, r, c0 + 16, map.dx, map.dy);
+    RasterFuse16(m_lo, lo, c0, map.dst + k);
+    RasterFuse16(m_hi, hi, c0 + 16, map.dst + k + 16);
+  }
+}
+
+// Words [w0, w1) of a row outside the rasterized rows while the map shifts: the shift only.
+void RasterShiftWords(RasterMap map, int r, int w0, int w1) {
+  for (int c0 = 32 * w0; c0 < 32 * w1; c0 += 16) {
+    *(__global short16*)(map.dst + CELL(r, c0)) = ShiftedCells(map.src, r, c0, map.dx, map.dy);
+  }
+}
+
+// Rewrites row r's mask and does `map`'s work on it; rows outside [job[2], job[3]) only shift.
+// On a CPU (RASTER_GROUP 1) one work-item does the row left to right. Elsewhere a work-group of
+// RASTER_GROUP work-items does it: work-item t owns a run of whole words, and `carry` (local
+// memory of RASTER_CARRY words, declared by the kernel) holds one bit per work-item, the parity
+// of its run, so that each knows the parity left of its run.
+void RasterRow(__global const int* job, __global uint* toggles, __global uint* occupied,
+               __global uchar* update, RasterMap map, int r, __local uint* carry) {
+  const bool rasterized = r >= job[2] && r < job[3];
+#if RASTER_GROUP == 1
+  if (rasterized) {
+    RasterWords(toggles, occupied, update, map, r, 0, RASTER_WORDS, 0u);
+  } else {
+    RasterShiftWords(map, r, 0, RASTER_WORDS);
+  }
+#else
+  const int t = get_local_id(0);
+  const int w0 = min(t * RASTER_WORDS_PER_ITEM, RASTER_WORDS);
+  const int w1 = min(w0 + RASTER_WORDS_PER_ITEM, RASTER_WORDS);
+  if (!rasterized) {  // the same for the whole work-group
+    RasterShiftWords(map, r, w0, w1);
+    return;
+  }
+  __global uint* row_toggles = toggles + r * RASTER_WORDS;
+  if (t < RASTER_CARRY) carry[t] = 0;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  uint run = 0;
+  for (int w = w0; w < w1; ++w) run ^= row_toggles[w];
+  if (popcount(run) & 1) atomic_or(&carry[t >> 5], 1u << (t & 31));
+  barrier(CLK_LOCAL_MEM_FENCE);
+
+  // Parity left of this run: the XOR of the runs of work-items 0 .. t - 1.
+  uint left = popcount(carry[t >> 5] & ((1u << (t & 31)) - 1u));
+  for (int k = 0; k < (t >> 5); ++k) left += popcount(carry[k]);
+  RasterWords(toggles, occupied, update, map, r, w0, w1, (left & 1) ? 0xffffffffu : 0u);
+#endif
+}
+
+// The row of work-group (or, on a CPU, work-item) g in dimension 1: row_first + g, or none.
+bool RasterRowOf(int row_first, int row_end, int* r) {
+#if RASTER_GROUP == 1
+  *r = row_first + (int)get_global_id(1);
+#else
+  *r = row_first + (int)get_group_id(1);
+#endif
+  return *r < row_end;
+}
+
+// The row pass elsewhere than on a CPU: global size (RASTER_GROUP, rows), local size
+// (RASTER_GROUP, 1), work-group g rewrites row row_first + g of [row_first, row_end). With src
+// null it writes the mask of the rasterized rows only. With src == dst it also fuses the mask
+// into the map in place (kernel stage 2 in the same pass; dx = dy = 0). With a pending map
+// shift it runs over every row (row_first 0, row_end HEIGHT), writing
+// dst(r, c) = src(r + dy, c + dx) and fusing the rasterized rows on the way.
+// src/opencl_backend.cpp defers the row pass of Rasterize() to learn which.
+__kernel void rasterize_rows(__global const int* job, __global uint* toggles,
+                             __global uint* occupied, __global uchar* update,
+                             __global const short* src, __global short* dst, int dx, int dy,
+                             int row_first, int row_end) {
+  __local uint carry[RASTER_CARRY];
+  int r;
+  if (!RasterRowOf(row_first, row_end, &r)) return;
+  const RasterMap map = {src, dst, dx, dy};
+  RasterRow(job, toggles, occupied, update, map, r, carry);
+}
+
+#if RASTER_SERIAL
+// The whole of stage 1 (and 2) on a CPU: work-item b owns rows [row_first + b * band,
+// row_first + (b + 1) * band) within [row_first, row_end). It toggles the bits of every edge
+// and echo on its rasterized rows, then runs the row pass on its rows with src / dst as
+// rasterize_rows does; the host sorted the occupied cells by row, so each band reads only its
+// own. Work-item 0 also writes the echoes outside the rasterized rows. Global size: the number
+// of bands, one work-item per group.
+__kernel void rasterize_bands(__global const int* job, __global uint* toggles,
+                              __global uint* occupied, __global uchar* update,
+                              __global const short* src, __global short* dst, int dx, int dy,
+                              int row_first, int row_end, int band) {
+  const int b = get_global_id(0);
+  const int ba = row_first + b * band, bb = min(ba + band, row_end);
+  if (ba >= bb) return;
+  const int n = job[0], r0 = job[2], r1 = job[3];
+  const int lo = max(ba, r0), hi = min(bb, r1);
+  if (lo < hi) {
+    for (int i = 0; i < n; ++i) RasterEdge(JOB_VERTICES(job), n, i, lo, hi, toggles);
+    __global const int* cells = JOB_CELLS(job);
+    __global const int* offsets = JOB_OFFSETS(job);
+    for (int i = offsets[lo - r0]; i < offsets[hi - r0]; ++i) RasterEcho(cells[i], occupied);
+  }
+  if (b == 0) {
+    for (int i = 0; i < job[4]; ++i) RasterOtherEcho(JOB_OTHER_CELLS(job)[i], update);
+  }
+  const RasterMap map = {src, dst, dx, dy};
+  for (int r = ba; r < bb; ++r) RasterRow(job, toggles, occupied, update, map, r, 0);
+}
+#endif

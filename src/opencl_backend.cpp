@@ -1,0 +1,636 @@
+// OpenClBackend: buffers, kernels and work sizes set up once; per scan, only enqueues (plus the
+// job upload and the C_Edge read-back). Kernel arguments that are buffers are set at
+// construction (and again only when the job buffer grows); per call only scalars change.
+#include "opencl_backend.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+
+#include "freespace/errors.hpp"
+
+namespace freespace {
+namespace {
+
+using opencl::Check;
+
+std::size_t RoundUp(std::size_t n, std::size_t multiple) {
+  return (n + multiple - 1) / multiple * multiple;
+}
+
+template <typename T>
+void SetArg(cl_kernel kernel, cl_uint index, const T& value) {
+  Check(clSetKernelArg(kernel, index, sizeof(T), &value), "clSetKernelArg");
+}
+
+// A second reference to `event`, for a stage whose first command is also its last.
+opencl::Event Retained(cl_event event) {
+  Check(clRetainEvent(event), "clRetainEvent");
+  return opencl::Event(event);
+}
+
+// Work-group sizes. Kernels over cells run one work-item per row on a CPU (it loops over the
+// row's 16-cell vectors) and about one per vector elsewhere.
+constexpr std::size_t kCpuRowsPerGroup = 4;
+constexpr std::size_t kGpuGroup = 64;
+constexpr std::size_t kGpuRowGroup = 256;  // at most this many work-items for one row
+constexpr std::size_t kEdgeGroup = 16;     // rasterize_edges, rays_cast: uneven loop lengths
+constexpr std::size_t kCastGroup = 16;
+constexpr std::size_t kBandsPerUnit = 4;    // rasterize_bands     // insight_cast
+constexpr std::size_t kCompactGroup = 256;  // insight_compact's one work-group; 32 on a CPU
+constexpr std::size_t kCpuCompactGroup = 32;
+constexpr std::size_t kMaxRasterGroup = 256;
+
+// Initial capacity of the job buffer, in ints: a ScaLa scan (581 beams, ~2000 echoes) fits.
+constexpr std::size_t kInitialJobInts = 8 + 2 * 4096 + 8192 + 8193;
+
+}  // namespace
+
+OpenClBackend::Layout OpenClBackend::MakeLayout(const KernelParams& p) {
+  // Room for the opening window and the +-1 of the hysteresis on every side; 64-aligned rows,
+  // so that the kernels can store 16 or 64 cells at once.
+  const int pad = std::max(p.opening_radius, 1);
+  Layout layout;
+  layout.pad_x = int(RoundUp(std::size_t(pad), 64));
+  layout.pad_y = pad;
+  layout.stride =
+      int(RoundUp(std::size_t(layout.pad_x) + RoundUp(std::size_t(p.width), 16) + pad, 64));
+  layout.cells = std::size_t(layout.stride) * std::size_t(p.height + 2 * pad);
+  return layout;
+}
+
+std::string OpenClBackend::BuildOptions(const KernelParams& p, int vectors_per_item,
+                                        int raster_group, bool bands) {
+  const Layout layout = MakeLayout(p);
+  std::ostringstream o;
+  o << "-cl-std=CL1.2 -DWIDTH=" << p.width << " -DHEIGHT=" << p.height
+    << " -DPAD_X=" << layout.pad_x << " -DPAD_Y=" << layout.pad_y << " -DSTRIDE=" << layout.stride
+    << " -DVECTORS_PER_ITEM=" << vectors_per_item << " -DL_FREE=(" << p.l_free << ") -DL_OCCUPIED=("
+    << p.l_occupied << ") -DL_MIN=(" << p.l_min << ") -DL_MAX=(" << p.l_max << ") -DT_LOW=("
+    << p.t_low << ") -DT_HIGH=(" << p.t_high << ") -DOPENING_RADIUS=" << p.opening_radius
+    << " -DFIXED_BITS=" << kFixedBits << " -DUPDATE_NONE=" << int(kUpdateNone)
+    << " -DUPDATE_FREE=" << int(kUpdateFree) << " -DUPDATE_OCCUPIED=" << int(kUpdateOccupied)
+    << " -DRASTER_GROUP=" << raster_group << " -DRASTER_SERIAL=" << (bands ? 1 : 0);
+  return o.str();
+}
+
+OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& config,
+                             WorkShape shape)
+    : Backend(params),
+      device_(opencl::DeviceContext::Get(opencl::ChooseDevice(config))),
+      name_("opencl: " + device_->choice().device_name) {
+  const int width = params.width, height = params.height, h = params.opening_radius;
+  if (width < 1 || height < 1 || h < 0) {
+    throw BackendError("backend opencl: bad map size " + std::to_string(width) + " x " +
+                       std::to_string(height));
+  }
+  const cl_context context = device_->context();
+  const cl_device_id device = device_->device();
+  cl_int status = CL_SUCCESS;
+  queue_.reset(clCreateCommandQueue(context, device, CL_QUEUE_PROFILING_ENABLE, &status));
+  Check(status, "clCreateCommandQueue");
+
+  std::size_t max_group = 1, max_items[3] = {1, 1, 1};
+  cl_device_type type = 0;
+  Check(
+      clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof max_group, &max_group, nullptr),
+      "clGetDeviceInfo");
+  Check(
+      clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_ITEM_SIZES, sizeof max_items, max_items, nullptr),
+      "clGetDeviceInfo");
+  Check(clGetDeviceInfo(device, CL_DEVICE_TYPE, sizeof type, &type, nullptr), "clGetDeviceInfo");
+  cl_uint units = 1;
+  Check(clGetDeviceInfo(device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof units, &units, nullptr),
+        "clGetDeviceInfo");
+  compute_units_ = std::max<cl_uint>(units, 1);
+  const bool cpu = shape == WorkShape::kDevice ? (type & CL_DEVICE_TYPE_CPU) != 0
+                                               : shape == WorkShape::kRowPerItem;
+
+  // A CPU runs a work-group's items one after the other, so it gets one work-item per row that
+  // loops over the row, and stage 1 as rasterize_bands, one work-item per band of rows. A GPU
+  // gets about one work-item per 16-cell vector, and stage 1 as rasterize_edges (one work-item
+  // per edge) and rasterize_rows (one work-group per row with enough work-items for one 32-cell
+  // word each). Either way all work-items of a row are in one work-group (classify.cl relies on
+  // it).
+  bands_ = cpu;
+  layout_ = MakeLayout(params);
+  const std::size_t row_vectors = RoundUp(std::size_t(width), 16) / 16;
+  const std::size_t row_cap = std::min({kGpuRowGroup, max_group, max_items[0]});
+  vectors_per_item_ = cpu ? int(row_vectors) : int((row_vectors + row_cap - 1) / row_cap);
+  row_items_ = (row_vectors + vectors_per_item_ - 1) / vectors_per_item_;
+  const std::size_t words = (std::size_t(width) + 31) / 32;
+  const std::size_t raster_cap = std::min({kMaxRasterGroup, max_group, max_items[0]});
+  while (!cpu && std::size_t(raster_group_) < words &&
+         std::size_t(raster_group_) * 2 <= raster_cap) {
+    raster_group_ *= 2;
+  }
+  program_ =
+      device_->EmbeddedProgram(BuildOptions(params, vectors_per_item_, raster_group_, bands_));
+
+  const char* row_pass = bands_ ? "rasterize_bands" : "rasterize_rows";
+  rasterize_edges_ = MakeKernel("rasterize_edges");
+  row_mask_ = MakeKernel(row_pass);
+  insight_cast_ = MakeKernel("insight_cast");
+  insight_compact_ = MakeKernel("insight_compact");
+  rays_cast_ = MakeKernel("rays_cast");
+  erode_dilate_ = MakeKernel("classify_erode_cols_dilate_rows");
+  dilate_cols_ = MakeKernel("classify_dilate_cols");
+  for (int k = 0; k < 2; ++k) {
+    fuse_[k] = MakeKernel("fuse");
+    rays_fuse_[k] = MakeKernel("rays_fuse");
+    hysteresis_[k] = MakeKernel("classify_hysteresis_erode_rows");
+    shift_[k] = MakeKernel("shift_map");
+    row_fuse_[k][0] = MakeKernel(row_pass);
+    row_fuse_[k][1] = MakeKernel(row_pass);
+  }
+
+  // Buffers.
+  auto buffer = [&](std::size_t bytes) {
+    opencl::Mem mem(clCreateBuffer(context, CL_MEM_READ_WRITE, std::max<std::size_t>(bytes, 4),
+                                   nullptr, &status));
+    Check(status, "clCreateBuffer");
+    return mem;
+  };
+  const std::size_t labels = std::size_t(BorderLabelCount(height, width));
+  const std::size_t padded = layout_.cells;
+  const std::size_t bit_words = words * std::size_t(height);
+  for (opencl::Mem& map : map_) map = buffer(padded * sizeof(LogOdds));
+  update_ = buffer(padded);
+  toggles_ = buffer(bit_words * 4);
+  occupied_ = buffer(bit_words * 4);
+  pass_a_ = buffer(padded);
+  pass_b_ = buffer(padded);
+  pass_c_ = buffer(padded);
+  free_ = buffer(padded);
+  label_ = buffer(cells() * 4);
+  stop_ = buffer(labels * 4);
+  edges_ = buffer((labels + 1) * 4);
+  delta_ = buffer(padded * 4);
+  GrowJob(kInitialJobInts);
+  edges_host_.assign(labels + 1, 0);
+  row_counts_.assign(std::size_t(height) + 1, 0);
+
+  // Initial contents: every cell buffer zero (the map unknown, the padding zero for good), the
+  // bit planes zero, T empty.
+  for (opencl::Mem& map : map_) Fill(map.get(), padded * sizeof(LogOdds));
+  Fill(update_.get(), padded);
+  Fill(toggles_.get(), bit_words * 4);
+  Fill(occupied_.get(), bit_words * 4);
+  Fill(pass_a_.get(), padded);
+  Fill(pass_b_.get(), padded);
+  Fill(pass_c_.get(), padded);
+  Fill(free_.get(), padded);
+  Fill(delta_.get(), padded * 4);
+  const cl_int none = INT_MAX;
+  Check(clEnqueueFillBuffer(queue_.get(), label_.get(), &none, sizeof none, 0, cells() * 4, 0,
+                            nullptr, nullptr),
+        "clEnqueueFillBuffer");
+
+  // Buffer arguments, set once.
+  const cl_kernel edges = rasterize_edges_.get();
+  SetArg(edges, 1, toggles_.get());
+  SetArg(edges, 2, occupied_.get());
+  SetArg(edges, 3, update_.get());
+  // The row pass: the mask only (no map), in place on map_[k], or map_[k] shifted into the
+  // other buffer.
+  const cl_mem no_map = nullptr;
+  for (int k = 0; k < 2; ++k) {
+    const cl_kernel kernels[3] = {row_mask_.get(), row_fuse_[k][0].get(), row_fuse_[k][1].get()};
+    const cl_mem src[3] = {no_map, map_[k].get(), map_[k].get()};
+    const cl_mem dst[3] = {no_map, map_[k].get(), map_[1 - k].get()};
+    for (int i = 0; i < 3; ++i) {
+      SetArg(kernels[i], 1, toggles_.get());
+      SetArg(kernels[i], 2, occupied_.get());
+      SetArg(kernels[i], 3, update_.get());
+      SetArg(kernels[i], 4, src[i]);
+      SetArg(kernels[i], 5, dst[i]);
+    }
+  }
+  SetArg(rays_cast_.get(), 1, delta_.get());
+  SetArg(erode_dilate_.get(), 0, pass_b_.get());
+  SetArg(erode_dilate_.get(), 1, pass_a_.get());
+  SetArg(erode_dilate_.get(), 2, pass_c_.get());
+  SetArg(dilate_cols_.get(), 0, pass_c_.get());
+  SetArg(dilate_cols_.get(), 1, free_.get());
+  SetArg(insight_cast_.get(), 0, free_.get());
+  SetArg(insight_cast_.get(), 1, label_.get());
+  SetArg(insight_cast_.get(), 2, stop_.get());
+  SetArg(insight_compact_.get(), 0, stop_.get());
+  SetArg(insight_compact_.get(), 1, label_.get());
+  SetArg(insight_compact_.get(), 2, edges_.get());
+  for (int k = 0; k < 2; ++k) {
+    SetArg(fuse_[k].get(), 0, map_[k].get());
+    SetArg(fuse_[k].get(), 1, update_.get());
+    SetArg(rays_fuse_[k].get(), 0, map_[k].get());
+    SetArg(rays_fuse_[k].get(), 1, delta_.get());
+    SetArg(hysteresis_[k].get(), 0, map_[k].get());
+    SetArg(hysteresis_[k].get(), 1, pass_a_.get());
+    SetArg(hysteresis_[k].get(), 2, pass_b_.get());
+    SetArg(shift_[k].get(), 0, map_[k].get());
+    SetArg(shift_[k].get(), 1, map_[1 - k].get());
+  }
+
+  // Work sizes. Global sizes are rounded up to whole work-groups; the kernels skip the extra
+  // work-items, so no size has to divide the map.
+  std::size_t most = max_group;
+  for (const cl_kernel k : {erode_dilate_.get(), dilate_cols_.get(), hysteresis_[0].get(),
+                            shift_[0].get(), fuse_[0].get(), rays_fuse_[0].get()}) {
+    most = std::min(most, LocalSize(k, max_group));
+  }
+  if (row_items_ > most) {
+    throw BackendError("backend opencl: a row of " + std::to_string(width) +
+                       " cells needs work-groups of " + std::to_string(row_items_) +
+                       " work-items; the kernels allow " + std::to_string(most));
+  }
+  rows_local_[0] = row_items_;
+  rows_local_[1] = std::max<std::size_t>(
+      1,
+      std::min({cpu ? kCpuRowsPerGroup : kGpuGroup / row_items_, most / row_items_, max_items[1]}));
+  if (raster_group_ == 1) {
+    raster_local_[0] = 1;
+    raster_local_[1] = std::min(kCpuRowsPerGroup, LocalSize(row_mask_.get(), max_group));
+  } else {
+    if (LocalSize(row_mask_.get(), raster_group_) < std::size_t(raster_group_)) {
+      throw BackendError("backend opencl: rasterize_rows cannot run work-groups of " +
+                         std::to_string(raster_group_) + " on this device");
+    }
+    raster_local_[0] = std::size_t(raster_group_);
+    raster_local_[1] = 1;
+  }
+  edge_local_ = std::min(LocalSize(rasterize_edges_.get(), kEdgeGroup),
+                         LocalSize(rays_cast_.get(), kEdgeGroup));
+  cast_local_ = LocalSize(insight_cast_.get(), kCastGroup);
+  cast_global_ = RoundUp(labels, cast_local_);
+  compact_size_ = LocalSize(insight_compact_.get(), cpu ? kCpuCompactGroup : kCompactGroup);
+  Check(clSetKernelArg(insight_compact_.get(), 3, compact_size_ * sizeof(cl_int), nullptr),
+        "clSetKernelArg");
+
+  Finish();
+}
+
+OpenClBackend::~OpenClBackend() {
+  // Pending commands may still read job_host_; never throw from here.
+  if (queue_) clFinish(queue_.get());
+}
+
+opencl::Kernel OpenClBackend::MakeKernel(const char* name) const {
+  cl_int status = CL_SUCCESS;
+  opencl::Kernel kernel(clCreateKernel(program_, name, &status));
+  if (status != CL_SUCCESS) {
+    throw BackendError(std::string("backend opencl: kernel ") + name + ": " +
+                       opencl::ErrorName(status) + " (" + std::to_string(status) + ")");
+  }
+  return kernel;
+}
+
+std::size_t OpenClBackend::LocalSize(cl_kernel kernel, std::size_t preferred) const {
+  std::size_t most = 1;
+  Check(clGetKernelWorkGroupInfo(kernel, device_->device(), CL_KERNEL_WORK_GROUP_SIZE, sizeof most,
+                                 &most, nullptr),
+        "clGetKernelWorkGroupInfo");
+  return std::max<std::size_t>(1, std::min(preferred, most));
+}
+
+void OpenClBackend::Launch(cl_kernel kernel, cl_uint dims, const std::size_t* global,
+                           const std::size_t* local, cl_event* event) {
+  const cl_int status =
+      clEnqueueNDRangeKernel(queue_.get(), kernel, dims, nullptr, global, local, 0, nullptr, event);
+  if (status == CL_SUCCESS) return;
+  char name[128] = "?";
+  clGetKernelInfo(kernel, CL_KERNEL_FUNCTION_NAME, sizeof name, name, nullptr);
+  throw BackendError(std::string("backend opencl: enqueueing kernel ") + name + ": " +
+                     opencl::ErrorName(status) + " (" + std::to_string(status) + ")");
+}
+
+void OpenClBackend::GrowJob(std::size_t ints) {
+  // The previous upload may still be reading the staging area.
+  if (upload_done_) {
+    const cl_event wait = upload_done_.get();
+    Check(clWaitForEvents(1, &wait), "clWaitForEvents");
+  }
+  job_capacity_ = std::max(ints, 2 * job_capacity_);
+  job_host_.assign(job_capacity_, 0);
+  cl_int status = CL_SUCCESS;
+  // Commands already enqueued keep the old buffer alive until they finish.
+  job_.reset(
+      clCreateBuffer(device_->context(), CL_MEM_READ_ONLY, job_capacity_ * 4, nullptr, &status));
+  Check(status, "clCreateBuffer");
+  SetArg(rasterize_edges_.get(), 0, job_.get());
+  SetArg(row_mask_.get(), 0, job_.get());
+  SetArg(rays_cast_.get(), 0, job_.get());
+  for (const auto& pair : row_fuse_) {
+    for (const opencl::Kernel& k : pair) SetArg(k.get(), 0, job_.get());
+  }
+}
+
+std::int32_t* OpenClBackend::Staging(std::size_t ints) {
+  if (ints > job_capacity_) GrowJob(ints);
+  if (upload_done_) {
+    // Normally long finished: the scan that made it ended with a blocking read.
+    const cl_event wait = upload_done_.get();
+    Check(clWaitForEvents(1, &wait), "clWaitForEvents");
+  }
+  return job_host_.data();
+}
+
+void OpenClBackend::Upload(std::size_t ints, opencl::Event* event) {
+  Check(clEnqueueWriteBuffer(queue_.get(), job_.get(), CL_FALSE, 0, ints * 4, job_host_.data(), 0,
+                             nullptr, event->out()),
+        "clEnqueueWriteBuffer");
+  upload_done_ = Retained(event->get());
+}
+
+void OpenClBackend::SetStage(Stage stage, opencl::Event begin, opencl::Event end) {
+  begin_[stage] = std::move(begin);
+  end_[stage] = std::move(end);
+}
+
+void OpenClBackend::Rasterize(const RasterJob& job) {
+  FlushRows();  // a pending shift may wait: the upload and rasterize_edges leave the map alone
+  const int r0 = std::max(job.row_begin, 0);
+  const int r1 = std::min(job.row_end, params_.height);
+  if (r0 >= r1) return;
+  const int n = std::max(job.vertex_count, 0), listed = std::max(job.occupied_count, 0);
+  const int width = params_.width, rows = r1 - r0;
+
+  // The occupied cells sorted by row (a counting sort), so that a band of rows finds its own:
+  // count[j] becomes the first cell of row r0 + j, then the next free place of that row.
+  std::int32_t* count = row_counts_.data();
+  std::fill(count, count + rows + 1, 0);
+  int other = 0;
+  for (int i = 0; i < listed; ++i) {
+    const int r = job.occupied[i] / width;
+    if (r >= r0 && r < r1) {
+      ++count[r - r0 + 1];
+    } else {
+      ++other;
+    }
+  }
+  for (int j = 1; j <= rows; ++j) count[j] += count[j - 1];
+  const int m = count[rows];
+  const std::size_t ints =
+      8 + 2 * std::size_t(n) + std::size_t(m) + std::size_t(rows) + 1 + std::size_t(other);
+  std::int32_t* staging = Staging(ints);
+  const std::int32_t header[8] = {n, m, r0, r1, other, 0, 0, 0};
+  std::memcpy(staging, header, sizeof header);
+  if (n > 0) std::memcpy(staging + 8, job.vertices, 2 * std::size_t(n) * 4);
+  std::int32_t* cells = staging + 8 + 2 * std::size_t(n);
+  std::int32_t* offsets = cells + m;
+  std::int32_t* others = offsets + rows + 1;
+  std::memcpy(offsets, count, (std::size_t(rows) + 1) * 4);
+  for (int i = 0, o = 0; i < listed; ++i) {
+    const std::int32_t cell = job.occupied[i];
+    const int r = cell / width;
+    if (r >= r0 && r < r1) {
+      cells[count[r - r0]++] = cell;
+    } else {
+      others[o++] = cell;
+    }
+  }
+  opencl::Event begin, end;
+  Upload(ints, &begin);
+  if (!bands_ && n + listed > 0) {  // rasterize_bands does the edges in its row pass
+    const std::size_t global = RoundUp(std::size_t(n + listed), edge_local_);
+    Launch(rasterize_edges_.get(), 1, &global, &edge_local_, end.out());
+  } else {
+    end = Retained(begin.get());
+  }
+  SetStage(kRasterStage, std::move(begin), std::move(end));
+  rows_pending_ = true;
+  pending_begin_ = r0;
+  pending_end_ = r1;
+}
+
+void OpenClBackend::FlushRows() {
+  if (!rows_pending_) return;
+  rows_pending_ = false;
+  RowPass(row_mask_.get(), 0, 0, pending_begin_, pending_end_, end_[kRasterStage].out());
+}
+
+void OpenClBackend::RowPass(cl_kernel kernel, int dx, int dy, int first, int end, cl_event* event) {
+  SetArg(kernel, 6, cl_int(dx));
+  SetArg(kernel, 7, cl_int(dy));
+  SetArg(kernel, 8, cl_int(first));
+  SetArg(kernel, 9, cl_int(end));
+  const std::size_t rows = std::size_t(end - first);
+  if (bands_) {
+    // A few bands per compute unit: enough to balance uneven bands, few enough that walking
+    // every edge per band stays cheap.
+    const std::size_t bands = std::min<std::size_t>(rows, kBandsPerUnit * compute_units_);
+    const std::size_t band = (rows + bands - 1) / bands;
+    SetArg(kernel, 10, cl_int(band));
+    const std::size_t global = (rows + band - 1) / band, local = 1;
+    Launch(kernel, 1, &global, &local, event);
+  } else {
+    const std::size_t global[2] = {raster_local_[0], RoundUp(rows, raster_local_[1])};
+    Launch(kernel, 2, global, raster_local_, event);
+  }
+}
+
+void OpenClBackend::Fuse(int row_begin, int row_end) {
+  const int r0 = std::max(row_begin, 0), r1 = std::min(row_end, params_.height);
+  if (rows_pending_ && r0 == pending_begin_ && r1 == pending_end_) {
+    // The row pass, the pending shift (every row) or none (the rasterized rows), the fusion.
+    opencl::Event event;
+    if (shift_pending_) {
+      RowPass(row_fuse_[current_][1].get(), pending_dx_, pending_dy_, 0, params_.height,
+              event.out());
+    } else {
+      RowPass(row_fuse_[current_][0].get(), 0, 0, r0, r1, event.out());
+    }
+    if (shift_pending_) current_ = 1 - current_;
+    shift_pending_ = rows_pending_ = false;
+    opencl::Event again = Retained(event.get());
+    SetStage(kFuseStage, std::move(event), std::move(again));
+    return;
+  }
+  Flush();
+  if (r0 >= r1) return;
+  const cl_kernel kernel = fuse_[current_].get();
+  SetArg(kernel, 2, cl_int(r0));
+  SetArg(kernel, 3, cl_int(r1));
+  opencl::Event event;
+  RowsLaunch(kernel, r1 - r0, event.out());
+  opencl::Event again = Retained(event.get());
+  SetStage(kFuseStage, std::move(event), std::move(again));
+}
+
+void OpenClBackend::CastRays(const RayJob& job) {
+  Flush();
+  const int n = std::max(job.ray_count, 0);
+  if (n == 0) return;
+  const std::size_t ints = 8 + 2 * std::size_t(n);
+  std::int32_t* staging = Staging(ints);
+  const std::int32_t header[8] = {n, job.origin_col, job.origin_row, 0, 0, 0, 0, 0};
+  std::memcpy(staging, header, sizeof header);
+  std::memcpy(staging + 8, job.ends, 2 * std::size_t(n) * 4);
+  opencl::Event begin, end;
+  Upload(ints, &begin);
+  const std::size_t global = RoundUp(std::size_t(n), edge_local_);
+  Launch(rays_cast_.get(), 1, &global, &edge_local_, end.out());
+  SetStage(kRasterStage, std::move(begin), std::move(end));
+}
+
+void OpenClBackend::FuseRays(int row_begin, int row_end) {
+  Flush();
+  const int r0 = std::max(row_begin, 0), r1 = std::min(row_end, params_.height);
+  if (r0 >= r1) return;
+  const cl_kernel kernel = rays_fuse_[current_].get();
+  SetArg(kernel, 2, cl_int(r0));
+  SetArg(kernel, 3, cl_int(r1));
+  opencl::Event event;
+  RowsLaunch(kernel, r1 - r0, event.out());
+  opencl::Event again = Retained(event.get());
+  SetStage(kFuseStage, std::move(event), std::move(again));
+}
+
+void OpenClBackend::Classify() {
+  Flush();
+  opencl::Event begin, end;
+  const int height = params_.height;
+  RowsLaunch(hysteresis_[current_].get(), height, begin.out());
+  RowsLaunch(erode_dilate_.get(), height, nullptr);
+  RowsLaunch(dilate_cols_.get(), height, end.out());
+  SetStage(kClassifyStage, std::move(begin), std::move(end));
+}
+
+void OpenClBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
+  Flush();
+  const cl_kernel cast = insight_cast_.get();
+  SetArg(cast, 3, cl_int(vehicle.col));
+  SetArg(cast, 4, cl_int(vehicle.row));
+  opencl::Event begin, end;
+  Launch(cast, 1, &cast_global_, &cast_local_, begin.out());
+  Launch(insight_compact_.get(), 1, &compact_size_, &compact_size_, nullptr);
+  Check(clEnqueueReadBuffer(queue_.get(), edges_.get(), CL_TRUE, 0, edges_host_.size() * 4,
+                            edges_host_.data(), 0, nullptr, end.out()),
+        "clEnqueueReadBuffer");
+  SetStage(kInSightStage, std::move(begin), std::move(end));
+  const int width = params_.width;
+  const int count = edges_host_[0];
+  edges->clear();
+  for (int i = 1; i <= count; ++i)
+    edges->push_back({edges_host_[i] / width, edges_host_[i] % width});
+}
+
+void OpenClBackend::Shift(int dx, int dy) {
+  Flush();
+  if (dx == 0 && dy == 0) return;
+  if (std::abs(dx) >= params_.width || std::abs(dy) >= params_.height) {
+    Fill(map_[current_].get(), layout_.cells * sizeof(LogOdds));
+    return;
+  }
+  // Deferred: two shifts in a row do not compose (the first one clips), so a second one
+  // flushes the first.
+  shift_pending_ = true;
+  pending_dx_ = dx;
+  pending_dy_ = dy;
+}
+
+void OpenClBackend::FlushShift() {
+  if (!shift_pending_) return;
+  shift_pending_ = false;
+  const cl_kernel kernel = shift_[current_].get();
+  SetArg(kernel, 2, cl_int(pending_dx_));
+  SetArg(kernel, 3, cl_int(pending_dy_));
+  RowsLaunch(kernel, params_.height, nullptr);
+  current_ = 1 - current_;
+}
+
+void OpenClBackend::Flush() {
+  FlushShift();
+  FlushRows();
+}
+
+void OpenClBackend::Clear() {
+  Flush();
+  Fill(map_[current_].get(), layout_.cells * sizeof(LogOdds));
+  Fill(free_.get(), layout_.cells);
+}
+
+void OpenClBackend::Finish() {
+  Flush();
+  Check(clFinish(queue_.get()), "clFinish");
+}
+
+void OpenClBackend::Fill(cl_mem buffer, std::size_t bytes) {
+  const cl_uchar zero = 0;
+  Check(clEnqueueFillBuffer(queue_.get(), buffer, &zero, 1, 0, bytes, 0, nullptr, nullptr),
+        "clEnqueueFillBuffer");
+}
+
+void OpenClBackend::RowsLaunch(cl_kernel kernel, int rows, cl_event* event) {
+  const std::size_t global[2] = {row_items_, RoundUp(std::size_t(rows), rows_local_[1])};
+  Launch(kernel, 2, global, rows_local_, event);
+}
+
+void OpenClBackend::ReadCells(cl_mem buffer, std::size_t element, void* dst) {
+  Flush();
+  const std::size_t origin[3] = {std::size_t(layout_.pad_x) * element, std::size_t(layout_.pad_y),
+                                 0};
+  const std::size_t host_origin[3] = {0, 0, 0};
+  const std::size_t region[3] = {std::size_t(params_.width) * element, std::size_t(params_.height),
+                                 1};
+  Check(clEnqueueReadBufferRect(queue_.get(), buffer, CL_TRUE, origin, host_origin, region,
+                                std::size_t(layout_.stride) * element, 0, region[0], 0, dst, 0,
+                                nullptr, nullptr),
+        "clEnqueueReadBufferRect");
+}
+
+void OpenClBackend::WriteCells(cl_mem buffer, std::size_t element, const void* src) {
+  Flush();
+  const std::size_t origin[3] = {std::size_t(layout_.pad_x) * element, std::size_t(layout_.pad_y),
+                                 0};
+  const std::size_t host_origin[3] = {0, 0, 0};
+  const std::size_t region[3] = {std::size_t(params_.width) * element, std::size_t(params_.height),
+                                 1};
+  Check(clEnqueueWriteBufferRect(queue_.get(), buffer, CL_TRUE, origin, host_origin, region,
+                                 std::size_t(layout_.stride) * element, 0, region[0], 0, src, 0,
+                                 nullptr, nullptr),
+        "clEnqueueWriteBufferRect");
+}
+
+// Flush() before choosing the map buffer: a deferred shift moves the map to the other one.
+void OpenClBackend::ReadLogOdds(LogOdds* dst) {
+  Flush();
+  ReadCells(map_[current_].get(), sizeof(LogOdds), dst);
+}
+void OpenClBackend::WriteLogOdds(const LogOdds* src) {
+  Flush();
+  WriteCells(map_[current_].get(), sizeof(LogOdds), src);
+}
+void OpenClBackend::ReadUpdateMask(std::uint8_t* dst) { ReadCells(update_.get(), 1, dst); }
+void OpenClBackend::WriteUpdateMask(const std::uint8_t* src) { WriteCells(update_.get(), 1, src); }
+void OpenClBackend::ReadFree(std::uint8_t* dst) { ReadCells(free_.get(), 1, dst); }
+void OpenClBackend::ReadRayDelta(std::int32_t* dst) {
+  ReadCells(delta_.get(), sizeof(std::int32_t), dst);
+}
+void OpenClBackend::WriteFree(const std::uint8_t* src) { WriteCells(free_.get(), 1, src); }
+
+bool OpenClBackend::KernelTimes(StageTimes* times) const {
+  double* fields[kStageCount] = {&times->rasterize_us, &times->fuse_us, &times->classify_us,
+                                 &times->insight_us};
+  bool any = false;
+  for (int s = 0; s < kStageCount; ++s) {
+    if (!begin_[s] || !end_[s]) continue;
+    const cl_event last = end_[s].get();
+    cl_ulong start = 0, stop = 0;
+    if (clWaitForEvents(1, &last) == CL_SUCCESS &&
+        clGetEventProfilingInfo(begin_[s].get(), CL_PROFILING_COMMAND_START, sizeof start, &start,
+                                nullptr) == CL_SUCCESS &&
+        clGetEventProfilingInfo(last, CL_PROFILING_COMMAND_END, sizeof stop, &stop, nullptr) ==
+            CL_SUCCESS &&
+        stop >= start) {
+      *fields[s] = double(stop - start) * 1e-3;
+      any = true;
+    }
+    begin_[s].reset();
+    end_[s].reset();
+  }
+  return any;
+}
+
+}  // namespace freespace

@@ -1,0 +1,170 @@
+// The OpenCL backend: every kernel stage as the kernels of kernels/*.cl, run on the device the
+// config (or the environment) chooses. The map and every per-scan buffer stay resident on the
+// device between scans; a scan uploads its raster (or ray) job and reads back only C_Edge.
+// Stages are enqueued without waiting; InSight() waits for its result, Finish() for everything.
+// Bit-identical to the host backend (host/), which is its oracle in the tests.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "backend.hpp"
+#include "opencl_runtime.hpp"
+
+namespace freespace {
+
+class OpenClBackend final : public Backend {
+ public:
+  // How kernels over cells split the map: as suits the device (one work-item per row on a CPU,
+  // about one per 16-cell vector, with work-groups per row in rasterize_rows, elsewhere), or one
+  // of the two forced, so that the tests run the GPU shape on a CPU device too.
+  enum class WorkShape { kDevice, kRowPerItem, kVectorPerItem };
+
+  // Chooses the device (BackendConfig::opencl_platform / opencl_device, overridden by
+  // FREESPACE_OPENCL_PLATFORM / FREESPACE_OPENCL_DEVICE), builds the kernels for `params` (or
+  // takes them from the cache) and allocates every buffer. Throws BackendError.
+  OpenClBackend(const KernelParams& params, const BackendConfig& config,
+                WorkShape shape = WorkShape::kDevice);
+  ~OpenClBackend() override;
+
+  // "opencl: <device name>".
+  std::string name() const override { return name_; }
+
+  void Rasterize(const RasterJob& job) override;                            // rasterize.cl
+  void Fuse(int row_begin, int row_end) override;                           // fuse.cl
+  void CastRays(const RayJob& job) override;                                // rays.cl
+  void FuseRays(int row_begin, int row_end) override;                       // rays.cl
+  void Classify() override;                                                 // classify.cl
+  void InSight(CellIndex vehicle, std::vector<CellIndex>* edges) override;  // insight.cl
+  void Shift(int dx, int dy) override;                                      // shift.cl
+  void Clear() override;
+  void Finish() override;
+
+  void ReadLogOdds(LogOdds* dst) override;
+  void WriteLogOdds(const LogOdds* src) override;
+  void ReadUpdateMask(std::uint8_t* dst) override;
+  void WriteUpdateMask(const std::uint8_t* src) override;
+  void ReadFree(std::uint8_t* dst) override;
+  void ReadRayDelta(std::int32_t* dst) override;
+  void WriteFree(const std::uint8_t* src) override;
+
+  // Device times from OpenCL event profiling, each from the start of a stage's first command to
+  // the end of its last. rasterize_us: the job upload and rasterize_edges (GPU shape; the CPU
+  // shape does the edges in the row pass), plus the row pass when it ran on its own; fuse_us:
+  // the row pass of stage 1 with the fusion (and a deferred map shift) folded in, or fuse.
+  // Conventional model: ray upload + rays_cast, and rays_fuse. classify_us: the three classify
+  // kernels. insight_us: the insight kernels and reading C_Edge back. Each measurement is
+  // reported once; stages that did not run since the last call keep the caller's values.
+  bool KernelTimes(StageTimes* times) const override;
+
+  // The padded cell layout of the device buffers (kernels/common.cl): PAD_Y zero rows above
+  // and below the map, PAD_X zero columns left of it, rows `stride` cells apart.
+  struct Layout {
+    int pad_x = 0;
+    int pad_y = 0;
+    int stride = 0;
+    std::size_t cells = 0;  // stride * (height + 2 pad_y)
+  };
+  static Layout MakeLayout(const KernelParams& params);
+
+  // The -D build options of the kernels (the program cache's key). `vectors_per_item`: 16-cell
+  // vectors of a row per work-item; `raster_group`: work-group size of rasterize_rows; `bands`:
+  // stage 1 as rasterize_bands (the CPU shape).
+  static std::string BuildOptions(const KernelParams& params, int vectors_per_item,
+                                  int raster_group, bool bands);
+
+ private:
+  enum Stage { kRasterStage, kFuseStage, kClassifyStage, kInSightStage, kStageCount };
+
+  std::size_t cells() const { return std::size_t(params_.width) * params_.height; }
+  opencl::Kernel MakeKernel(const char* name) const;
+  std::size_t LocalSize(cl_kernel kernel, std::size_t preferred) const;
+  void Launch(cl_kernel kernel, cl_uint dims, const std::size_t* global, const std::size_t* local,
+              cl_event* event);
+  // The staging area for an upload of `ints` ints, once the previous upload is done with it.
+  std::int32_t* Staging(std::size_t ints);
+  // Writes the first `ints` ints of the staging area into the job buffer, not blocking; the
+  // write's event becomes `*event` (and upload_done_).
+  void Upload(std::size_t ints, opencl::Event* event);
+  void GrowJob(std::size_t ints);
+  void Fill(cl_mem buffer, std::size_t bytes);
+  // Copies the map's cells of a padded buffer of `element`-byte cells to or from host memory
+  // (width * height elements, row-major).
+  void ReadCells(cl_mem buffer, std::size_t element, void* dst);
+  void WriteCells(cl_mem buffer, std::size_t element, const void* src);
+  // Global and local sizes of a kernel over `rows` rows of 16-cell vectors.
+  void RowsLaunch(cl_kernel kernel, int rows, cl_event* event);
+  void SetStage(Stage stage, opencl::Event begin, opencl::Event end);
+  // Enqueues the deferred shift and row pass on their own.
+  void Flush();
+  // Enqueues a row-pass kernel over rows [first, end) with a map shift of (dx, dy).
+  void RowPass(cl_kernel kernel, int dx, int dy, int first, int end, cl_event* event);
+  void FlushShift();
+  void FlushRows();
+
+  std::shared_ptr<opencl::DeviceContext> device_;
+  std::string name_;
+  opencl::Queue queue_;
+  cl_program program_ = nullptr;  // owned by device_'s cache
+  Layout layout_;
+  int vectors_per_item_ = 1;
+  int raster_group_ = 1;
+  bool bands_ = false;  // stage 1 as rasterize_bands (the CPU shape)
+  std::size_t compute_units_ = 1;
+
+  // Device buffers, per-cell ones in the padded layout. The map lives in map_[current_]; the
+  // shift writes the other one and flips current_. Kernels that touch the map exist once per
+  // buffer, so no argument is re-set.
+  opencl::Mem map_[2];
+  int current_ = 0;
+  opencl::Mem update_;            // stage 1 -> stage 2, uchar per cell
+  opencl::Mem toggles_;           // stage 1 bit planes, one bit per cell, rows of whole words
+  opencl::Mem occupied_;          //
+  opencl::Mem pass_a_;            // stage 3 intermediates
+  opencl::Mem pass_b_;            //
+  opencl::Mem pass_c_;            //
+  opencl::Mem free_;              // stage 3 output, stage 4 input
+  opencl::Mem label_;             // stage 4: T, smallest label per stop cell (INT_MAX = none)
+  opencl::Mem stop_;              // stage 4: stop cell per label
+  opencl::Mem edges_;             // stage 4 output: count, then C_Edge cells
+  opencl::Mem delta_;             // conventional model: per-cell sum of one scan's rays
+  opencl::Mem job_;               // the raster or ray job (rasterize.cl, rays.cl)
+  std::size_t job_capacity_ = 0;  // ints
+
+  opencl::Kernel rasterize_edges_, insight_cast_, insight_compact_, rays_cast_;
+  opencl::Kernel erode_dilate_, dilate_cols_;
+  std::array<opencl::Kernel, 2> fuse_, rays_fuse_, hysteresis_, shift_;  // per map buffer
+  // The row pass of stage 1 (rasterize_rows, or rasterize_bands on a CPU): the mask only, and
+  // per map buffer k with the fusion, [k][0] in place on map_[k], [k][1] shifting map_[k] into
+  // map_[1 - k] on the way.
+  opencl::Kernel row_mask_;
+  std::array<std::array<opencl::Kernel, 2>, 2> row_fuse_;
+
+  // Deferred work. Shift() records the shift, Rasterize() enqueues the upload and
+  // rasterize_edges and records the row pass; the Fuse() of the same rows then does the row
+  // pass, the shift and the fusion in one pass over the map (rasterize_rows_fuse). Any other
+  // call first runs what is pending on its own (Flush()), so results never depend on it.
+  bool shift_pending_ = false;
+  int pending_dx_ = 0, pending_dy_ = 0;
+  bool rows_pending_ = false;
+  int pending_begin_ = 0, pending_end_ = 0;
+
+  // Work sizes, fixed at construction.
+  std::size_t row_items_ = 1;                     // work-items per row of kernels over cells
+  std::size_t rows_local_[2] = {1, 1};            // their work-group
+  std::size_t raster_local_[2] = {1, 1};          // rasterize_rows
+  std::size_t edge_local_ = 1;                    // rasterize_edges, rays_cast
+  std::size_t cast_local_ = 1, cast_global_ = 1;  // insight_cast
+  std::size_t compact_size_ = 1;                  // insight_compact: one work-group
+
+  std::vector<std::int32_t> job_host_;    // staging of the job upload
+  std::vector<std::int32_t> edges_host_;  // C_Edge as read back
+  std::vector<std::int32_t> row_counts_;  // counting sort of the occupied cells by row
+  opencl::Event upload_done_;             // the last upload from job_host_
+
+  mutable std::array<opencl::Event, kStageCount> begin_, end_;
+};
+
+}  // namespace freespace

@@ -1,0 +1,240 @@
+// The OpenCL runtime: error names, device choice, shared contexts and the program cache
+// (see opencl_runtime.hpp). The disk cache of compiled kernels is the driver's own (PoCL keeps
+// one in POCL_CACHE_DIR, by default under ~/.cache/pocl), so a second process skips the compiler.
+#include "opencl_runtime.hpp"
+
+#include <cstdlib>
+#include <sstream>
+#include <vector>
+
+#include "freespace/errors.hpp"
+
+namespace freespace::opencl {
+namespace {
+
+std::string PlatformString(cl_platform_id platform, cl_platform_info what) {
+  std::size_t size = 0;
+  if (clGetPlatformInfo(platform, what, 0, nullptr, &size) != CL_SUCCESS || size == 0) return "?";
+  std::string text(size, '\0');
+  clGetPlatformInfo(platform, what, size, text.data(), nullptr);
+  text.resize(text.find('\0') == std::string::npos ? size : text.find('\0'));
+  return text;
+}
+
+std::string DeviceString(cl_device_id device, cl_device_info what) {
+  std::size_t size = 0;
+  if (clGetDeviceInfo(device, what, 0, nullptr, &size) != CL_SUCCESS || size == 0) return "?";
+  std::string text(size, '\0');
+  clGetDeviceInfo(device, what, size, text.data(), nullptr);
+  text.resize(text.find('\0') == std::string::npos ? size : text.find('\0'));
+  return text;
+}
+
+// A filter from the config, replaced by the environment variable when that is set and not empty.
+std::string Filter(const std::string& configured, const char* env, std::string* origin) {
+  const char* value = std::getenv(env);
+  if (value != nullptr && *value != '\0') {
+    *origin = env;
+    return value;
+  }
+  *origin = "config";
+  return configured;
+}
+
+}  // namespace
+
+const char* ErrorName(cl_int code) {
+  switch (code) {
+    case CL_SUCCESS:
+      return "CL_SUCCESS";
+    case CL_DEVICE_NOT_FOUND:
+      return "CL_DEVICE_NOT_FOUND";
+    case CL_DEVICE_NOT_AVAILABLE:
+      return "CL_DEVICE_NOT_AVAILABLE";
+    case CL_COMPILER_NOT_AVAILABLE:
+      return "CL_COMPILER_NOT_AVAILABLE";
+    case CL_MEM_OBJECT_ALLOCATION_FAILURE:
+      return "CL_MEM_OBJECT_ALLOCATION_FAILURE";
+    case CL_OUT_OF_RESOURCES:
+      return "CL_OUT_OF_RESOURCES";
+    case CL_OUT_OF_HOST_MEMORY:
+      return "CL_OUT_OF_HOST_MEMORY";
+    case CL_PROFILING_INFO_NOT_AVAILABLE:
+      return "CL_PROFILING_INFO_NOT_AVAILABLE";
+    case CL_BUILD_PROGRAM_FAILURE:
+      return "CL_BUILD_PROGRAM_FAILURE";
+    case CL_INVALID_VALUE:
+      return "CL_INVALID_VALUE";
+    case CL_INVALID_PLATFORM:
+      return "CL_INVALID_PLATFORM";
+    case CL_INVALID_DEVICE:
+      return "CL_INVALID_DEVICE";
+    case CL_INVALID_CONTEXT:
+      return "CL_INVALID_CONTEXT";
+    case CL_INVALID_COMMAND_QUEUE:
+      return "CL_INVALID_COMMAND_QUEUE";
+    case CL_INVALID_MEM_OBJECT:
+      return "CL_INVALID_MEM_OBJECT";
+    case CL_INVALID_BUILD_OPTIONS:
+      return "CL_INVALID_BUILD_OPTIONS";
+    case CL_INVALID_PROGRAM:
+      return "CL_INVALID_PROGRAM";
+    case CL_INVALID_PROGRAM_EXECUTABLE:
+      return "CL_INVALID_PROGRAM_EXECUTABLE";
+    case CL_INVALID_KERNEL_NAME:
+      return "CL_INVALID_KERNEL_NAME";
+    case CL_INVALID_KERNEL:
+      return "CL_INVALID_KERNEL";
+    case CL_INVALID_ARG_INDEX:
+      return "CL_INVALID_ARG_INDEX";
+    case CL_INVALID_ARG_VALUE:
+      return "CL_INVALID_ARG_VALUE";
+    case CL_INVALID_ARG_SIZE:
+      return "CL_INVALID_ARG_SIZE";
+    case CL_INVALID_KERNEL_ARGS:
+      return "CL_INVALID_KERNEL_ARGS";
+    case CL_INVALID_WORK_DIMENSION:
+      return "CL_INVALID_WORK_DIMENSION";
+    case CL_INVALID_WORK_GROUP_SIZE:
+      return "CL_INVALID_WORK_GROUP_SIZE";
+    case CL_INVALID_WORK_ITEM_SIZE:
+      return "CL_INVALID_WORK_ITEM_SIZE";
+    case CL_INVALID_GLOBAL_WORK_SIZE:
+      return "CL_INVALID_GLOBAL_WORK_SIZE";
+    case CL_INVALID_EVENT:
+      return "CL_INVALID_EVENT";
+    case CL_INVALID_OPERATION:
+      return "CL_INVALID_OPERATION";
+    case CL_INVALID_BUFFER_SIZE:
+      return "CL_INVALID_BUFFER_SIZE";
+    case CL_EXEC_STATUS_ERROR_FOR_EVENTS_IN_WAIT_LIST:
+      return "CL_EXEC_STATUS_ERROR_FOR_EVENTS_IN_WAIT_LIST";
+    case -1001:  // CL_PLATFORM_NOT_FOUND_KHR (cl_khr_icd)
+      return "CL_PLATFORM_NOT_FOUND_KHR";
+    default:
+      return "unknown OpenCL error";
+  }
+}
+
+void Check(cl_int code, const char* what) {
+  if (code == CL_SUCCESS) return;
+  std::ostringstream message;
+  message << "OpenCL " << what << ": " << ErrorName(code) << " (" << code << ")";
+  throw BackendError(message.str());
+}
+
+DeviceChoice ChooseDevice(const BackendConfig& config) {
+  std::string platform_origin, device_origin;
+  const std::string platform_filter =
+      Filter(config.opencl_platform, kPlatformEnv, &platform_origin);
+  const std::string device_filter = Filter(config.opencl_device, kDeviceEnv, &device_origin);
+
+  cl_uint platform_count = 0;
+  const cl_int status = clGetPlatformIDs(0, nullptr, &platform_count);
+  if (status == -1001 /* CL_PLATFORM_NOT_FOUND_KHR */ ||
+      (status == CL_SUCCESS && platform_count == 0)) {
+    throw BackendError("backend opencl: no OpenCL platform (ICD loader found none)");
+  }
+  Check(status, "clGetPlatformIDs");
+  std::vector<cl_platform_id> platforms(platform_count);
+  Check(clGetPlatformIDs(platform_count, platforms.data(), nullptr), "clGetPlatformIDs");
+
+  std::ostringstream seen;
+  for (cl_platform_id platform : platforms) {
+    const std::string platform_name = PlatformString(platform, CL_PLATFORM_NAME);
+    seen << "\n  platform \"" << platform_name << "\":";
+    cl_uint device_count = 0;
+    if (clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, 0, nullptr, &device_count) != CL_SUCCESS ||
+        device_count == 0) {
+      seen << " no devices";
+      continue;
+    }
+    std::vector<cl_device_id> devices(device_count);
+    Check(clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, device_count, devices.data(), nullptr),
+          "clGetDeviceIDs");
+    const bool platform_matches = platform_name.find(platform_filter) != std::string::npos;
+    for (cl_device_id device : devices) {
+      const std::string device_name = DeviceString(device, CL_DEVICE_NAME);
+      cl_bool available = CL_FALSE, compiler = CL_FALSE;
+      clGetDeviceInfo(device, CL_DEVICE_AVAILABLE, sizeof available, &available, nullptr);
+      clGetDeviceInfo(device, CL_DEVICE_COMPILER_AVAILABLE, sizeof compiler, &compiler, nullptr);
+      seen << " device \"" << device_name << "\"";
+      if (!available) seen << " (not available)";
+      if (!compiler) seen << " (no compiler)";
+      if (platform_matches && available && compiler &&
+          device_name.find(device_filter) != std::string::npos) {
+        return {platform, device, platform_name, device_name};
+      }
+    }
+  }
+  std::ostringstream message;
+  message << "backend opencl: no usable OpenCL device matches platform \"" << platform_filter
+          << "\" (" << platform_origin << ") and device \"" << device_filter << "\" ("
+          << device_origin << "); found:" << seen.str();
+  throw BackendError(message.str());
+}
+
+Program BuildProgram(cl_context context, cl_device_id device, const KernelFile* files, int count,
+                     const std::string& options) {
+  // A #line directive before each file makes the compiler's messages name it.
+  std::vector<std::string> lines(count);
+  std::vector<const char*> texts;
+  for (int i = 0; i < count; ++i) {
+    lines[i] = std::string("#line 1 \"") + files[i].name + "\"\n";
+    texts.push_back(lines[i].c_str());
+    texts.push_back(files[i].text);
+    texts.push_back("\n");
+  }
+  cl_int status = CL_SUCCESS;
+  Program program(
+      clCreateProgramWithSource(context, cl_uint(texts.size()), texts.data(), nullptr, &status));
+  Check(status, "clCreateProgramWithSource");
+  status = clBuildProgram(program.get(), 1, &device, options.c_str(), nullptr, nullptr);
+  if (status == CL_SUCCESS) return program;
+
+  std::size_t size = 0;
+  std::string log;
+  if (clGetProgramBuildInfo(program.get(), device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &size) ==
+          CL_SUCCESS &&
+      size > 0) {
+    log.resize(size);
+    clGetProgramBuildInfo(program.get(), device, CL_PROGRAM_BUILD_LOG, size, log.data(), nullptr);
+    log.resize(log.find('\0') == std::string::npos ? size : log.find('\0'));
+  }
+  std::ostringstream message;
+  message << "backend opencl: the OpenCL kernels failed to build on \""
+          << DeviceString(device, CL_DEVICE_NAME) << "\": " << ErrorName(status) << " (" << status
+          << ")\n  options: " << options << "\n  build log:\n"
+          << (log.empty() ? "(empty)" : log);
+  throw BackendError(message.str());
+}
+
+DeviceContext::DeviceContext(const DeviceChoice& choice) : choice_(choice) {
+  const cl_context_properties properties[] = {
+      CL_CONTEXT_PLATFORM, reinterpret_cast<cl_context_properties>(choice.platform), 0};
+  cl_int status = CL_SUCCESS;
+  context_.reset(clCreateContext(properties, 1, &choice.device, nullptr, nullptr, &status));
+  Check(status, "clCreateContext");
+}
+
+std::shared_ptr<DeviceContext> DeviceContext::Get(const DeviceChoice& choice) {
+  // Never destroyed: see the class comment.
+  static std::mutex* mutex = new std::mutex;
+  static auto* contexts = new std::map<cl_device_id, std::shared_ptr<DeviceContext>>;
+  const std::lock_guard<std::mutex> lock(*mutex);
+  std::shared_ptr<DeviceContext>& context = (*contexts)[choice.device];
+  if (!context) context = std::make_shared<DeviceContext>(choice);
+  return context;
+}
+
+cl_program DeviceContext::EmbeddedProgram(const std::string& options) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  auto found = programs_.find(options);
+  if (found != programs_.end()) return found->second.get();
+  Program program = BuildProgram(context(), device(), kKernelFiles, kKernelFileCount, options);
+  const cl_program handle = program.get();
+  programs_.emplace(options, std::move(program));
+  return handle;
+}
+
+}  // namespace freespace::opencl

@@ -1,0 +1,122 @@
+// The OpenCL runtime under the OpenCL backend: owning handles, error checks that throw
+// BackendError, the device choice (config, overridden by the environment), one context per
+// device shared by every backend on it, and the embedded kernels built once per
+// (context, device, options) and cached for the life of the process.
+#pragma once
+
+#ifndef CL_TARGET_OPENCL_VERSION
+#define CL_TARGET_OPENCL_VERSION 120
+#endif
+#include <CL/cl.h>
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "freespace/config.hpp"
+#include "opencl_kernels.hpp"
+
+namespace freespace::opencl {
+
+// The name of an OpenCL error code, e.g. "CL_OUT_OF_RESOURCES".
+const char* ErrorName(cl_int code);
+
+// Throws BackendError "OpenCL <what>: <name> (<code>)" unless `code` is CL_SUCCESS.
+void Check(cl_int code, const char* what);
+
+// Owns one reference to an OpenCL object.
+template <typename T, cl_int (*Release)(T)>
+class Handle {
+ public:
+  Handle() = default;
+  explicit Handle(T handle) : handle_(handle) {}
+  ~Handle() { reset(); }
+  Handle(Handle&& other) noexcept : handle_(other.handle_) { other.handle_ = nullptr; }
+  Handle& operator=(Handle&& other) noexcept {
+    if (this != &other) {
+      reset();
+      handle_ = other.handle_;
+      other.handle_ = nullptr;
+    }
+    return *this;
+  }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+
+  T get() const { return handle_; }
+  explicit operator bool() const { return handle_ != nullptr; }
+  // Drops the current reference; for APIs that return a new object through a pointer.
+  T* out() {
+    reset();
+    return &handle_;
+  }
+  void reset(T handle = nullptr) {
+    if (handle_ != nullptr) Release(handle_);
+    handle_ = handle;
+  }
+
+ private:
+  T handle_ = nullptr;
+};
+
+using Context = Handle<cl_context, clReleaseContext>;
+using Queue = Handle<cl_command_queue, clReleaseCommandQueue>;
+using Program = Handle<cl_program, clReleaseProgram>;
+using Kernel = Handle<cl_kernel, clReleaseKernel>;
+using Mem = Handle<cl_mem, clReleaseMemObject>;
+using Event = Handle<cl_event, clReleaseEvent>;
+
+// Names of the environment variables that override BackendConfig::opencl_platform and
+// opencl_device when set and not empty.
+inline constexpr const char* kPlatformEnv = "FREESPACE_OPENCL_PLATFORM";
+inline constexpr const char* kDeviceEnv = "FREESPACE_OPENCL_DEVICE";
+
+struct DeviceChoice {
+  cl_platform_id platform = nullptr;
+  cl_device_id device = nullptr;
+  std::string platform_name;
+  std::string device_name;
+};
+
+// The first available device, in platform then device order, whose platform name contains the
+// platform filter and whose name contains the device filter (empty filters match all). The
+// filters are config.opencl_platform / opencl_device, replaced by the environment variables
+// above when those are set. Throws BackendError naming the filters and every platform and
+// device seen, or "no OpenCL platform (ICD loader found none)".
+DeviceChoice ChooseDevice(const BackendConfig& config);
+
+// Builds the OpenCL C `files` (one program, in order) for `device` with `options`. Each file
+// starts with a #line directive, so the compiler's messages name the file. Throws BackendError
+// carrying the build log when the compiler rejects the program.
+Program BuildProgram(cl_context context, cl_device_id device, const KernelFile* files, int count,
+                     const std::string& options);
+
+// A context on one device, shared by every backend on that device, with a cache of the embedded
+// kernels built for each options string. Created on first use and kept until the process ends
+// (releasing OpenCL objects from static destructors races the ICD loader's own teardown).
+class DeviceContext {
+ public:
+  // The shared context of `choice.device`. Throws BackendError.
+  static std::shared_ptr<DeviceContext> Get(const DeviceChoice& choice);
+
+  explicit DeviceContext(const DeviceChoice& choice);
+  DeviceContext(const DeviceContext&) = delete;
+  DeviceContext& operator=(const DeviceContext&) = delete;
+
+  cl_context context() const { return context_.get(); }
+  cl_device_id device() const { return choice_.device; }
+  const DeviceChoice& choice() const { return choice_; }
+
+  // kernels/*.cl built with `options`: built on the first request, then the cached program.
+  // Thread-safe. Throws BackendError with the build log.
+  cl_program EmbeddedProgram(const std::string& options);
+
+ private:
+  DeviceChoice choice_;
+  Context context_;
+  std::mutex mutex_;
+  std::map<std::string, Program> programs_;
+};
+
+}  // namespace freespace::opencl

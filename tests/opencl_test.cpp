@@ -1,0 +1,299 @@
+// The OpenCL runtime itself: device choice by config and environment, the errors it gives
+// (the devices it saw, the compiler's build log), the program cache and the event timings; and
+// every stage in both work shapes (per row, per vector) against the host.
+// Compiled only when the OpenCL backend is; each test skips when no OpenCL device exists here.
+#include <cmath>
+#include <cstdlib>
+#include <random>
+#include <tuple>
+
+#include "host_backend.hpp"
+#include "opencl_backend.hpp"
+#include "opencl_runtime.hpp"
+#include "test_util.hpp"
+
+namespace freespace {
+namespace {
+
+// The device an unfiltered choice takes, or a skip when there is none.
+#define FREESPACE_DEVICE_OR_SKIP(var)                        \
+  opencl::DeviceChoice var;                                  \
+  try {                                                      \
+    var = opencl::ChooseDevice(BackendConfig{});             \
+  } catch (const BackendError& e) {                          \
+    GTEST_SKIP() << "no usable OpenCL device: " << e.what(); \
+  }
+
+// Sets an environment variable for the life of the object.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const char* value) : name_(name) {
+    if (const char* old = std::getenv(name)) old_ = old, had_ = true;
+    setenv(name, value, 1);
+  }
+  ~ScopedEnv() {
+    if (had_) {
+      setenv(name_, old_.c_str(), 1);
+    } else {
+      unsetenv(name_);
+    }
+  }
+
+ private:
+  const char* name_;
+  std::string old_;
+  bool had_ = false;
+};
+
+std::string ErrorOf(const BackendConfig& config) {
+  try {
+    opencl::ChooseDevice(config);
+  } catch (const BackendError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(OpenClRuntime, DeviceFilterMatchingNothingNamesTheDevicesFound) {
+  FREESPACE_DEVICE_OR_SKIP(found);
+  BackendConfig config;
+  config.kind = BackendKind::kOpenCl;
+  config.opencl_device = "no-such-device";
+  const std::string message = ErrorOf(config);
+  EXPECT_NE(message.find("no usable OpenCL device matches"), std::string::npos) << message;
+  EXPECT_NE(message.find("\"no-such-device\" (config)"), std::string::npos) << message;
+  EXPECT_NE(message.find(found.platform_name), std::string::npos) << message;
+  EXPECT_NE(message.find(found.device_name), std::string::npos) << message;
+  // Through the factory: an explicit opencl backend throws, it does not fall back.
+  EXPECT_THROW(CreateBackend(config, test::SmallParams(4, 4)), BackendError);
+}
+
+TEST(OpenClRuntime, PlatformFilterMatchingNothingThrows) {
+  FREESPACE_DEVICE_OR_SKIP(found);
+  BackendConfig config;
+  config.opencl_platform = "no-such-platform";
+  const std::string message = ErrorOf(config);
+  EXPECT_NE(message.find("\"no-such-platform\" (config)"), std::string::npos) << message;
+  EXPECT_NE(message.find(found.device_name), std::string::npos) << message;
+}
+
+TEST(OpenClRuntime, EnvironmentOverridesTheConfiguredDevice) {
+  FREESPACE_DEVICE_OR_SKIP(found);
+  BackendConfig config;
+  {
+    const ScopedEnv env(opencl::kDeviceEnv, "no-such-device");
+    const std::string message = ErrorOf(config);
+    EXPECT_NE(message.find("\"no-such-device\" (FREESPACE_OPENCL_DEVICE)"), std::string::npos)
+        << message;
+  }
+  {
+    config.opencl_device = "no-such-device";
+    const ScopedEnv env(opencl::kDeviceEnv, found.device_name.c_str());
+    EXPECT_EQ(opencl::ChooseDevice(config).device, found.device);
+  }
+  {
+    config.opencl_device.clear();
+    const ScopedEnv env(opencl::kPlatformEnv, "no-such-platform");
+    EXPECT_NE(ErrorOf(config).find("(FREESPACE_OPENCL_PLATFORM)"), std::string::npos);
+  }
+  // A substring of the name is enough.
+  config.opencl_device = found.device_name.substr(0, 3);
+  EXPECT_EQ(opencl::ChooseDevice(config).device, found.device);
+}
+
+TEST(OpenClRuntime, BrokenKernelThrowsWithTheCompilersLog) {
+  FREESPACE_DEVICE_OR_SKIP(found);
+  const auto context = opencl::DeviceContext::Get(found);
+  const opencl::KernelFile broken[] = {
+      {"good.cl", "__kernel void good(__global int* x) { x[0] = 1; }\n"},
+      {"broken.cl", "__kernel void broken(__global int* x) {\n  x[0] = no_such_name;\n}\n"}};
+  try {
+    opencl::BuildProgram(context->context(), context->device(), broken, 2, "-cl-std=CL1.2");
+    FAIL() << "a broken program built";
+  } catch (const BackendError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("failed to build"), std::string::npos) << message;
+    EXPECT_NE(message.find("CL_BUILD_PROGRAM_FAILURE"), std::string::npos) << message;
+    EXPECT_NE(message.find("no_such_name"), std::string::npos) << message;
+    EXPECT_NE(message.find("broken.cl:2"), std::string::npos) << message;  // file and line
+  }
+  // The embedded kernels build with the backend's options.
+  const KernelParams params = test::SmallParams(7, 5, 1);
+  EXPECT_NO_THROW(opencl::BuildProgram(context->context(), context->device(), opencl::kKernelFiles,
+                                       opencl::kKernelFileCount,
+                                       OpenClBackend::BuildOptions(params, 1, 1, true)));
+}
+
+TEST(OpenClRuntime, ProgramsAreBuiltOncePerOptions) {
+  FREESPACE_DEVICE_OR_SKIP(found);
+  const auto context = opencl::DeviceContext::Get(found);
+  EXPECT_EQ(context, opencl::DeviceContext::Get(found));
+  const KernelParams a = test::SmallParams(9, 4), b = test::SmallParams(4, 9);
+  const cl_program pa = context->EmbeddedProgram(OpenClBackend::BuildOptions(a, 1, 1, true));
+  EXPECT_EQ(pa, context->EmbeddedProgram(OpenClBackend::BuildOptions(a, 1, 1, true)));
+  EXPECT_NE(pa, context->EmbeddedProgram(OpenClBackend::BuildOptions(b, 1, 1, true)));
+  const std::string options = OpenClBackend::BuildOptions(a, 1, 1, true);
+  EXPECT_NE(options.find("-DWIDTH=9 -DHEIGHT=4"), std::string::npos) << options;
+  EXPECT_NE(options.find("-DL_FREE=(" + std::to_string(a.l_free) + ")"), std::string::npos);
+}
+
+TEST(OpenClRuntime, AutoTakesOpenClWhenADeviceExists) {
+  FREESPACE_DEVICE_OR_SKIP(found);
+  BackendConfig config;
+  config.kind = BackendKind::kAuto;
+  const auto backend = CreateBackend(config, test::SmallParams(5, 5));
+  EXPECT_EQ(backend->name(), "opencl: " + found.device_name);
+}
+
+TEST(OpenClRuntime, EstimatorReportsEventTimesOfTheKernelStages) {
+  FREESPACE_DEVICE_OR_SKIP(found);
+  Config config = test::SmallConfig(60, 60);
+  config.backend.kind = BackendKind::kOpenCl;
+  Estimator estimator(config);
+  std::vector<double> angles, ranges;
+  for (int a = -60; a <= 60; ++a) {
+    angles.push_back(a);
+    ranges.push_back(3.0);
+  }
+  const Result& first = estimator.Process(test::MakeScan(0.0, {}, angles, ranges));
+  ASSERT_EQ(first.status, ScanStatus::kOk);
+  for (const double t : {first.times.rasterize_us, first.times.fuse_us, first.times.classify_us,
+                         first.times.insight_us}) {
+    EXPECT_GT(t, 0.0);
+    EXPECT_LT(t, first.times.total_us);
+  }
+  // A scan without update reports no rasterize / fuse time (not the last scan's).
+  Scan empty;
+  empty.timestamp_s = 0.1;
+  const Result& second = estimator.Process(empty);
+  ASSERT_EQ(second.status, ScanStatus::kNoSensorUpdate);
+  EXPECT_EQ(second.times.rasterize_us, 0.0);
+  EXPECT_EQ(second.times.fuse_us, 0.0);
+  EXPECT_GT(second.times.insight_us, 0.0);
+}
+
+}  // namespace
+}  // namespace freespace
+
+namespace freespace {
+namespace {
+
+// Random inputs for every stage, run on the host backend and on an OpenCL backend forced to one
+// work shape; every buffer compared after every stage.
+class WorkShapeTest : public ::testing::TestWithParam<OpenClBackend::WorkShape> {};
+
+std::vector<std::int32_t> StarPolygon(std::mt19937& rng, int width, int height) {
+  std::uniform_real_distribution<double> pos(-0.2, 1.2), unit(0.0, 1.0);
+  const double sx = pos(rng) * width, sy = pos(rng) * height;
+  std::vector<std::int32_t> ring = {std::int32_t(sx * kFixedOne), std::int32_t(sy * kFixedOne)};
+  const int beams = 3 + int(rng() % 300);
+  for (int b = 0; b < beams; ++b) {
+    const double a = 4.0 * b / beams, r = unit(rng) * 1.2 * (width + height);
+    ring.push_back(std::int32_t((sx + r * std::cos(a)) * kFixedOne));
+    ring.push_back(std::int32_t((sy + r * std::sin(a)) * kFixedOne));
+  }
+  return ring;
+}
+
+TEST_P(WorkShapeTest, EveryStageMatchesTheHost) {
+  FREESPACE_DEVICE_OR_SKIP(found);
+  std::mt19937 rng(29);
+  for (const auto& [width, height, radius] : std::vector<std::tuple<int, int, int>>{
+           {1, 1, 0}, {5, 3, 1}, {33, 17, 2}, {37, 61, 4}, {300, 300, 4}, {517, 263, 18}}) {
+    const KernelParams params = test::SmallParams(width, height, radius);
+    HostBackend host(params, 0);
+    OpenClBackend ocl(params, BackendConfig{}, GetParam());
+    const std::size_t cells = std::size_t(width) * height;
+    const std::string where = std::to_string(width) + "x" + std::to_string(height);
+    auto same_map = [&](const char* stage) {
+      std::vector<LogOdds> a(cells), b(cells);
+      host.ReadLogOdds(a.data());
+      ocl.ReadLogOdds(b.data());
+      EXPECT_EQ(a, b) << where << " map after " << stage;
+    };
+    std::vector<LogOdds> map(cells);
+    for (auto& m : map) m = LogOdds(int(rng() % 601) - 400);
+    host.WriteLogOdds(map.data());
+    ocl.WriteLogOdds(map.data());
+    for (int scan = 0; scan < 4; ++scan) {
+      // As the estimator calls them: shift, rasterize, fuse. On odd scans the three run as one
+      // kernel; on even ones the update mask is read in between, so each runs on its own.
+      const int dx = int(rng() % 7) - 3, dy = int(rng() % 7) - 3;
+      host.Shift(dx, dy);
+      ocl.Shift(dx, dy);
+      if (scan % 2 == 0) same_map("shift");
+      const auto ring = StarPolygon(rng, width, height);
+      std::vector<std::int32_t> occupied;
+      for (int k = 0; k < 30; ++k) occupied.push_back(std::int32_t(rng() % cells));
+      RasterJob job;
+      job.vertices = ring.data();
+      job.vertex_count = int(ring.size() / 2);
+      job.occupied = occupied.data();
+      job.occupied_count = int(occupied.size());
+      job.row_begin = 0;
+      job.row_end = height;
+      job.row_begin = scan % 2 ? int(rng() % height) : 0;
+      job.row_end = scan % 2 ? job.row_begin + 1 + int(rng() % height) : height;
+      host.Rasterize(job);
+      ocl.Rasterize(job);
+      std::vector<std::uint8_t> ua(cells), ub(cells);
+      if (scan % 2 == 0) {  // the row pass on its own, then the fusion
+        host.ReadUpdateMask(ua.data());
+        ocl.ReadUpdateMask(ub.data());
+        EXPECT_EQ(ua, ub) << where << " update mask";
+      }
+      host.Fuse(job.row_begin, job.row_end);
+      ocl.Fuse(job.row_begin, job.row_end);
+      host.ReadUpdateMask(ua.data());
+      ocl.ReadUpdateMask(ub.data());
+      EXPECT_EQ(ua, ub) << where << " update mask after fuse";
+      same_map("fuse");
+      host.Classify();
+      ocl.Classify();
+      std::vector<std::uint8_t> fa(cells), fb(cells);
+      host.ReadFree(fa.data());
+      ocl.ReadFree(fb.data());
+      EXPECT_EQ(fa, fb) << where << " free mask";
+      std::vector<CellIndex> ea, eb;
+      ea.reserve(BorderLabelCount(height, width));
+      eb.reserve(BorderLabelCount(height, width));
+      const CellIndex vehicle{int(rng() % height), int(rng() % width)};
+      host.InSight(vehicle, &ea);
+      ocl.InSight(vehicle, &eb);
+      EXPECT_EQ(ea, eb) << where << " C_Edge";
+      std::vector<std::int32_t> ends;
+      for (int k = 0; k < 200; ++k) {
+        ends.push_back(int(rng() % (width + 20)) - 10);
+        ends.push_back(int(rng() % (height + 20)) - 10);
+      }
+      RayJob rays;
+      rays.origin_col = vehicle.col;
+      rays.origin_row = vehicle.row;
+      rays.ends = ends.data();
+      rays.ray_count = 200;
+      rays.row_begin = 0;
+      rays.row_end = height;
+      host.CastRays(rays);
+      ocl.CastRays(rays);
+      std::vector<std::int32_t> da(cells), db(cells);
+      host.ReadRayDelta(da.data());
+      ocl.ReadRayDelta(db.data());
+      EXPECT_EQ(da, db) << where << " ray deltas";
+      host.FuseRays(0, height);
+      ocl.FuseRays(0, height);
+      same_map("rays");
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Shapes, WorkShapeTest,
+                         ::testing::Values(OpenClBackend::WorkShape::kRowPerItem,
+                                           OpenClBackend::WorkShape::kVectorPerItem),
+                         [](const ::testing::TestParamInfo<OpenClBackend::WorkShape>& info) {
+                           return info.param == OpenClBackend::WorkShape::kRowPerItem
+                                      ? "row_per_item"
+                                      : "vector_per_item";
+                         });
+
+}  // namespace
+}  // namespace freespace
