@@ -5,30 +5,74 @@
 // vehicle cell; each stops at its first not-free cell. Where several rays stop at one cell the
 // smallest label wins (T keeps the minimum), so C_Edge, the stop cells sorted by their label,
 // is the same whatever order the rays run in.
+//
+// The rays visit exactly the cells of host::CastRay, with one loop per major axis: on a shallow
+// ray every step moves one column, on a steep one one row, so each step does one decision and
+// one bit test, and the row's words stay in a pointer.
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <climits>
 
 #include "host_backend.hpp"
 
 namespace freespace {
+namespace {
+
+// Bresenham from (x0, y0) over dx = |x1 - x0|, dy = |y1 - y0| cells in directions (sx, sy):
+// the first cell after the start whose bit in the free bitset (rows of `words` words) is 0, or
+// the end cell. The same cells as host::CastRay: there, a shallow ray (dx >= dy) steps x on
+// every iteration and y where 2 err <= dx; a steep one steps y on every iteration and x where
+// 2 err >= -dy.
+std::int32_t Ray(const std::uint64_t* rows, int words, int width, int x0, int y0, int dx, int dy,
+                 int sx, int sy) {
+  int err = dx - dy, x = x0, y = y0;
+  const std::ptrdiff_t row_step = std::ptrdiff_t(sy) * words;
+  const std::uint64_t* line = rows + std::size_t(y0) * words;
+  if (dx >= dy) {
+    for (int k = 0; k < dx; ++k) {
+      const bool y_step = 2 * err <= dx;
+      err -= dy;
+      x += sx;
+      if (y_step) {
+        err += dx;
+        y += sy;
+        line += row_step;
+      }
+      if (!((line[x >> 6] >> (x & 63)) & 1)) break;
+    }
+  } else {
+    for (int k = 0; k < dy; ++k) {
+      const bool x_step = 2 * err >= -dy;
+      err += dx;
+      y += sy;
+      line += row_step;
+      if (x_step) {
+        err -= dy;
+        x += sx;
+      }
+      if (!((line[x >> 6] >> (x & 63)) & 1)) break;
+    }
+  }
+  return y * width + x;
+}
+
+}  // namespace
 
 void HostBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
   const int width = params_.width, height = params_.height;
   const int labels = BorderLabelCount(height, width);
-  const std::uint64_t* free = free_.data();
   const int nw = words();
-  const auto is_free = [free, nw](int x, int y) {
-    return (free[std::size_t(y) * nw + (x >> 6)] >> (x & 63)) & 1;
-  };
+  const std::uint64_t* rows = free_.data();
   std::int32_t* stop = stop_.data();
   arena_.execute([&] {
     tbb::parallel_for(
         tbb::blocked_range<int>(0, labels, 32), [&](const tbb::blocked_range<int>& range) {
           for (int l = range.begin(); l != range.end(); ++l) {
             const CellIndex target = BorderCell(l, height, width);
-            stop[l] =
-                host::CastRay(is_free, width, vehicle.col, vehicle.row, target.col, target.row);
+            const int dx = target.col - vehicle.col, dy = target.row - vehicle.row;
+            stop[l] = Ray(rows, nw, width, vehicle.col, vehicle.row, dx < 0 ? -dx : dx,
+                          dy < 0 ? -dy : dy, dx < 0 ? -1 : 1, dy < 0 ? -1 : 1);
           }
         });
   });
