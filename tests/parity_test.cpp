@@ -74,10 +74,11 @@ bool ProcessBoth(Estimator& tbb, Estimator& opencl, const Scan& scan, const std:
 }
 
 void RunLog(const std::string& path, Config (*make_config)(const SensorConfig&),
-            SensorModelKind model) {
+            SensorModelKind model, AlignmentKind alignment = AlignmentKind::kCircle) {
   auto reader = OpenLog(path);
   Config config = make_config(reader->sensor());
   config.sensor_model.kind = model;
+  config.alignment.kind = alignment;
   std::unique_ptr<Estimator> tbb, opencl;
   std::string skip;
   MakePair(config, &tbb, &opencl, &skip);
@@ -101,6 +102,23 @@ TEST(Parity, IntelLabEveryScan) {
 TEST(Parity, AcesBuildingEveryScan) {
   FREESPACE_REQUIRE_DATA("carmen/aces-corrected.log", path);
   RunLog(path, Indoor, SensorModelKind::kEnhanced);
+}
+
+// The raw logs: odometry poses, clock jitter, and (Intel) scans the estimator rejects.
+TEST(Parity, IntelRawOdometryEveryScan) {
+  FREESPACE_REQUIRE_DATA("carmen/intel.clf", path);
+  RunLog(path, Indoor, SensorModelKind::kEnhanced);
+}
+
+TEST(Parity, AcesRawOdometryEveryScan) {
+  FREESPACE_REQUIRE_DATA("carmen/aces.clf", path);
+  RunLog(path, Indoor, SensorModelKind::kEnhanced);
+}
+
+// The rotate baseline warps the map on the host between the kernel stages of either backend.
+TEST(Parity, IntelLabRotateAlignmentEveryScan) {
+  FREESPACE_REQUIRE_DATA("carmen/intel-corrected.log", path);
+  RunLog(path, Indoor, SensorModelKind::kEnhanced, AlignmentKind::kRotate);
 }
 
 TEST(Parity, IntelLabConventionalModelEveryScan) {
