@@ -48,8 +48,44 @@ inline std::uint64_t Far(const std::uint64_t* x, int words, int w, int d) {
   return offset == 0 ? at(word) : (at(word) >> offset) | (at(word + 1) << (64 - offset));
 }
 
-// out = AND (erode) or OR (dilate) of x shifted by -h .. h within the row.
+// out = AND (erode) or OR (dilate) of x shifted by -h .. h within the row. x is a padded row
+// (a zero word before and after). For h < 32 the window of 2h + 1 cells is built by doubling:
+// the AND (OR) of `len` cells starting at each cell, len = 1, 2, 4, ..., following the binary
+// digits of 2h + 1, then shifted left by h: about log2(2h + 1) passes instead of 2h. The runs
+// are kept for the padding word before the row too, whose runs reach into the row.
 void RowMorphology(const std::uint64_t* x, int words, int h, bool erode, std::uint64_t* out) {
+  if (h == 0) {
+    std::copy(x, x + words, out);
+    return;
+  }
+  if (h < 32) {
+    PaddedRow run, next;
+    run.Clear(words);
+    next.Clear(words);
+    std::uint64_t* e = run.data();
+    std::uint64_t* n = next.data();
+    std::copy(x - 1, x + words, e - 1);
+    const int length = 2 * h + 1;
+    int top = 31 - __builtin_clz(unsigned(length));
+    int len = 1;
+    for (int bit = top - 1; bit >= 0; --bit) {
+      // len -> 2 len: the run at c and the run at c + len.
+      for (int w = -1; w < words; ++w) {
+        n[w] = erode ? (e[w] & Right(e, w, len)) : (e[w] | Right(e, w, len));
+      }
+      std::swap(e, n);
+      len *= 2;
+      if ((length >> bit) & 1) {  // len -> len + 1: and the cell at c + len
+        for (int w = -1; w < words; ++w) {
+          n[w] = erode ? (e[w] & Right(x, w, len)) : (e[w] | Right(x, w, len));
+        }
+        std::swap(e, n);
+        len += 1;
+      }
+    }
+    for (int w = 0; w < words; ++w) out[w] = Left(e, w, h);  // window [c - h, c + h]
+    return;
+  }
   for (int w = 0; w < words; ++w) {
     std::uint64_t v = x[w];
     for (int d = 1; d <= h; ++d) {

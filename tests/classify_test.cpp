@@ -88,15 +88,20 @@ TEST_P(ClassifyTest, OpeningMatchesOpenCvOnRandomMasks) {
   std::mt19937 rng(13);
   for (const auto& [width, height] : std::vector<std::pair<int, int>>{
            {1, 1}, {3, 11}, {17, 4}, {64, 64}, {301, 299}, {1500, 1500}}) {
-    for (const int radius : {0, 1, 2, 4}) {
+    for (const int radius : {0, 1, 2, 4, 5, 31, 32, 70}) {
       if (width == 1500 && radius != 4) continue;
+      if (radius > 4 && width != 64 && width != 301) continue;
+      // Wide elements need denser masks for some squares to fit: about one not-free cell per
+      // three elements' area.
+      const double not_free = radius <= 4 ? 0.2 : 0.3 / double((2 * radius + 1) * (2 * radius + 1));
+      std::uniform_real_distribution<double> uniform(0.0, 1.0);
       FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), test::SmallParams(width, height, radius));
       // Strong cells only, so that free0 is exactly the strong mask.
       std::vector<LogOdds> map(std::size_t(width) * height);
       cv::Mat strong(height, width, CV_8UC1);
       for (int r = 0; r < height; ++r) {
         for (int c = 0; c < width; ++c) {
-          const bool s = rng() % 100 < 80;
+          const bool s = uniform(rng) >= not_free;
           map[std::size_t(r) * width + c] = s ? -300 : LogOdds(rng() % 2 ? 0 : 200);
           strong.at<std::uint8_t>(r, c) = s ? 1 : 0;
         }
