@@ -91,17 +91,6 @@ int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::ui
     y_[s] = points[i].y;
     r_[s] = points[i].range;
   }
-  // Bin window of each echo (see the file comment): [first_, last_) in sorted order.
-  for (int a = 0; a < n; ++a) {
-    const double s = config_.eps_m / std::max(double(r_[a]), 1e-6) + config_.eps_per_m;
-    // asin(s) <= 1.05 s for s <= 0.5; the exact asin only for echoes near the sensor.
-    const double reach =
-        (s <= 0.5 ? 1.05 * s : (s < 1.0 ? std::asin(s) : 2.0 * M_PI)) / bin_width_ + 1.0;
-    const int bin = points[order_[a]].bin;
-    first_[a] = bin_start_[int(std::max<double>(0, bin - reach))];
-    last_[a] = bin_start_[int(std::min<double>(bins_ - 1, bin + reach)) + 1];
-    parent_[a].store(a, std::memory_order_relaxed);
-  }
   parent_[n].store(n, std::memory_order_relaxed);
 
   const float eps = float(config_.eps_m), k = float(config_.eps_per_m);
@@ -122,13 +111,26 @@ int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::ui
     });
   };
 
-  // Core points, searching outwards from each echo: in dense places the first few candidates
-  // decide. The first min_cluster_size - 1 neighbours found are kept for the next pass.
+  // Each echo's window, then core points, searching outwards from each echo: in dense places
+  // the first few candidates decide. The first min_cluster_size - 1 neighbours found are kept for
+  // the next pass.
   const int min_points = config_.min_points, big = config_.min_cluster_size;
   const int wanted = std::max(min_points - 1, std::min(big - 1, kMaxRecorded));
+  const std::int32_t* bin_start = bin_start_.data();
   parallel([&](int a) {
+    // Bin window of the echo (see the file comment): [first_, last_) in sorted order.
+    const double s = config_.eps_m / std::max(double(r[a]), 1e-6) + config_.eps_per_m;
+    // asin(s) <= 1.05 s for s <= 0.5; the exact asin only for echoes near the sensor.
+    const double reach =
+        (s <= 0.5 ? 1.05 * s : (s < 1.0 ? std::asin(s) : 2.0 * M_PI)) / bin_width_ + 1.0;
+    const int bin = points[order_[a]].bin;
+    const int lo = bin_start[int(std::max<double>(0, bin - reach))];
+    const int hi = bin_start[int(std::min<double>(bins_ - 1, bin + reach)) + 1];
+    first_[a] = lo;
+    last_[a] = hi;
+    parent_[a].store(a, std::memory_order_relaxed);
+
     std::int32_t* found = found_.data() + std::size_t(a) * kMaxRecorded;
-    const int lo = first_[a], hi = last_[a];
     int count = 0;
     for (int d = 1; count < wanted && (a - d >= lo || a + d < hi); ++d) {
       if (a - d >= lo && near(a, a - d)) found[count++] = a - d;
