@@ -138,7 +138,7 @@ class Backend {
   virtual void Finish() {}
 
   // Copies between the backend's buffers and host memory (width * height elements). For
-  // views, snapshots and tests; not used on the per-scan path.
+  // views, snapshots and tests; on the per-scan path only ReadFree(), for polygon.shape inside.
   virtual void ReadLogOdds(LogOdds* dst) = 0;
   virtual void WriteLogOdds(const LogOdds* src) = 0;
   virtual void ReadUpdateMask(std::uint8_t* dst) = 0;

@@ -26,6 +26,8 @@ constexpr EnumName<SensorModelKind> kSensorModelNames[] = {
     {SensorModelKind::kEnhanced, "enhanced"}, {SensorModelKind::kConventional, "conventional"}};
 constexpr EnumName<AlignmentKind> kAlignmentNames[] = {{AlignmentKind::kCircle, "circle"},
                                                        {AlignmentKind::kRotate, "rotate"}};
+constexpr EnumName<PolygonShape> kPolygonShapeNames[] = {{PolygonShape::kPaper, "paper"},
+                                                         {PolygonShape::kInside, "inside"}};
 constexpr EnumName<BackendKind> kBackendNames[] = {
     {BackendKind::kTbb, "tbb"}, {BackendKind::kOpenCl, "opencl"}, {BackendKind::kAuto, "auto"}};
 
@@ -82,6 +84,7 @@ void VisitFields(Config& c, Visitor&& v) {
   v("t_high", c.classify.t_high);
   v("vehicle_width_m", c.classify.vehicle_width_m);
   v.Section("polygon");
+  v.Enum("shape", c.polygon.shape, kPolygonShapeNames);
   v("max_vertices", c.polygon.max_vertices);
   v("epsilon_m", c.polygon.epsilon_m);
   v.Section("backend");
@@ -299,6 +302,8 @@ void Config::Validate() const {
             t.vehicle_width_m / c.map.resolution_m <= 255,
         "classify.vehicle_width_m", t.vehicle_width_m, "must be in [0, 255 cells]");
 
+  Check(c.polygon.shape == PolygonShape::kPaper || c.polygon.shape == PolygonShape::kInside,
+        "polygon.shape", int(c.polygon.shape), "must be paper or inside");
   Check(c.polygon.max_vertices >= 3 && c.polygon.max_vertices <= 4096, "polygon.max_vertices",
         c.polygon.max_vertices, "must be in [3, 4096]");
   Check(std::isfinite(c.polygon.epsilon_m) && c.polygon.epsilon_m >= 0, "polygon.epsilon_m",
@@ -372,5 +377,6 @@ std::vector<std::string> YamlSections(const std::string& yaml_text) {
 const char* ToString(SensorModelKind kind) { return NameOf(kSensorModelNames, kind); }
 const char* ToString(AlignmentKind kind) { return NameOf(kAlignmentNames, kind); }
 const char* ToString(BackendKind kind) { return NameOf(kBackendNames, kind); }
+const char* ToString(PolygonShape shape) { return NameOf(kPolygonShapeNames, shape); }
 
 }  // namespace freespace

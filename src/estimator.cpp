@@ -43,6 +43,12 @@ Estimator::Estimator(const Config& config) : config_(config) {
   const int labels = BorderLabelCount(config_.map.height_cells, config_.map.width_cells);
   simplifier_ = std::make_unique<PolygonSimplifier>(
       config_.polygon.max_vertices, config_.polygon.epsilon_m / config_.map.resolution_m);
+  if (config_.polygon.shape == PolygonShape::kInside) {
+    inside_ = std::make_unique<InsidePolygonBuilder>(
+        config_.map.width_cells, config_.map.height_cells, config_.polygon.max_vertices,
+        config_.polygon.epsilon_m / config_.map.resolution_m);
+    free_scan_.resize(std::size_t(config_.map.width_cells) * config_.map.height_cells);
+  }
   result_.polygon.reserve(config_.polygon.max_vertices);
   result_.polygon_cells.reserve(config_.polygon.max_vertices);
   result_.edge_cells.reserve(labels);
@@ -218,14 +224,20 @@ const Result& Estimator::Process(const Scan& scan) {
   const Clock::time_point t_insight = Clock::now();
   r.times.insight_us = Micros(t_classify, t_insight);
 
-  // Polygon: C_Edge cell centres, capped Douglas-Peucker, world coordinates.
-  ring_.clear();
-  for (const CellIndex& c : r.edge_cells) ring_.emplace_back(c.col + 0.5, c.row + 0.5);
-  const double error_cells = simplifier_->Simplify(ring_, local, &kept_);
+  // Polygon: C_Edge cell centres (paper) or the conservative polygon on the free mask (inside),
+  // capped Douglas-Peucker, world coordinates.
+  double error_cells = 0.0;
+  if (inside_ != nullptr) {
+    backend_->ReadFree(free_scan_.data());
+    error_cells = inside_->Build(free_scan_.data(), local, &r.polygon_cells);
+  } else {
+    ring_.clear();
+    for (const CellIndex& c : r.edge_cells) ring_.emplace_back(c.col + 0.5, c.row + 0.5);
+    error_cells = simplifier_->Simplify(ring_, local, &kept_);
+    for (const int i : kept_) r.polygon_cells.push_back(ring_[i]);
+  }
   const double mc = std::cos(r.map_yaw), ms = std::sin(r.map_yaw);
-  for (const int i : kept_) {
-    const Vec2& v = ring_[i];
-    r.polygon_cells.push_back(v);
+  for (const Vec2& v : r.polygon_cells) {
     r.polygon.push_back(r.origin + Vec2(mc * v.x() - ms * v.y(), ms * v.x() + mc * v.y()) * res);
   }
   r.simplification_error_m = error_cells * res;

@@ -96,12 +96,13 @@ nlohmann::json ScanMetrics::ToJson() const {
           {"intrusion_m2", intrusion_m2},
           {"intrusion_geometric_m2", intrusion_geometric_m2},
           {"intrusion_moving_m2", intrusion_moving_m2},
+          {"intrusion_mask_m2", intrusion_mask_m2},
           {"reference_free_m2", reference_free_m2},
           {"covered_free_m2", covered_free_m2},
           {"coverage", Number(coverage)},
-          {"reference_in_sight_m2", reference_in_sight_m2},
-          {"covered_in_sight_m2", covered_in_sight_m2},
-          {"coverage_in_sight", Number(coverage_in_sight)}};
+          {"reference_seen_m2", reference_seen_m2},
+          {"covered_seen_m2", covered_seen_m2},
+          {"coverage_seen", Number(coverage_seen)}};
 }
 
 void QualityEvaluator::Cover(const MapView& map, const TruthFrame& truth) {
@@ -212,13 +213,14 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
   }
 
   ScanMetrics m;
-  double intrusion = 0.0, intrusion_moving = 0.0, reference = 0.0, covered = 0.0,
-         reference_sight = 0.0, covered_sight = 0.0;
+  double intrusion = 0.0, intrusion_moving = 0.0, intrusion_mask = 0.0, reference = 0.0,
+         covered = 0.0, reference_seen = 0.0, covered_seen = 0.0;
   const std::size_t cells = std::size_t(map.width) * map.height;
   for (std::size_t i = 0; i < cells; ++i) {
     const LogOdds l = map.log_odds[i];
     const bool occupied = covered_[i] > kOccupiedFraction;
     if (occupied) intrusion += polygon_[i];
+    if (occupied && map.free[i]) intrusion_mask += polygon_[i];
     if (moving_[i]) intrusion_moving += polygon_[i];
     if (l == 0) continue;
     ++m.observed;
@@ -239,13 +241,13 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
       } else {
         ++m.false_occupied;
       }
-      if (seen_[i]) {
+      if (in_sight_[i]) {
         reference += 1.0;
         covered += polygon_[i];
-        if (in_sight_[i]) {
-          reference_sight += 1.0;
-          covered_sight += polygon_[i];
-        }
+      }
+      if (seen_[i]) {
+        reference_seen += 1.0;
+        covered_seen += polygon_[i];
       }
     }
   }
@@ -276,12 +278,13 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
   m.polygon_area_m2 = std::abs(sim::SignedArea(polygon));
   m.intrusion_m2 = intrusion * cell_area;
   m.intrusion_moving_m2 = intrusion_moving * cell_area;
+  m.intrusion_mask_m2 = intrusion_mask * cell_area;
   m.reference_free_m2 = reference * cell_area;
   m.covered_free_m2 = covered * cell_area;
-  m.coverage = Ratio(covered, reference);
-  m.reference_in_sight_m2 = reference_sight * cell_area;
-  m.covered_in_sight_m2 = covered_sight * cell_area;
-  m.coverage_in_sight = score_in_sight ? Ratio(covered_sight, reference_sight) : kNaN;
+  m.coverage = score_in_sight ? Ratio(covered, reference) : kNaN;
+  m.reference_seen_m2 = reference_seen * cell_area;
+  m.covered_seen_m2 = covered_seen * cell_area;
+  m.coverage_seen = Ratio(covered_seen, reference_seen);
   if (polygon.size() >= 3) {
     const Bounds pb(polygon);
     for (const Polygon& o : truth.obstacles) {
@@ -314,7 +317,7 @@ nlohmann::json MetricsSeries::Summary() const {
   };
   // Sums over all scans, for the pooled ratios.
   double correct = 0, observed = 0, false_free = 0, occupied = 0, moving = 0, majority = 0,
-         mask = 0, covered = 0, reference = 0, covered_sight = 0, reference_sight = 0, border = 0;
+         mask = 0, covered = 0, reference = 0, covered_seen = 0, reference_seen = 0, border = 0;
   for (const ScanMetrics& m : scans_) {
     correct += double(m.correct);
     observed += double(m.observed);
@@ -325,8 +328,8 @@ nlohmann::json MetricsSeries::Summary() const {
     mask += double(m.false_free_mask);
     covered += m.covered_free_m2;
     reference += m.reference_free_m2;
-    covered_sight += m.covered_in_sight_m2;
-    reference_sight += m.reference_in_sight_m2;
+    covered_seen += m.covered_seen_m2;
+    reference_seen += m.reference_seen_m2;
     border += double(m.errors_at_border);
   }
   nlohmann::json accuracy = stats([](const ScanMetrics& m) { return m.accuracy; });
@@ -341,8 +344,8 @@ nlohmann::json MetricsSeries::Summary() const {
   ffm["pooled"] = Number(Ratio(mask, occupied));
   nlohmann::json coverage = stats([](const ScanMetrics& m) { return m.coverage; });
   coverage["pooled"] = Number(Ratio(covered, reference));
-  nlohmann::json in_sight = stats([](const ScanMetrics& m) { return m.coverage_in_sight; });
-  in_sight["pooled"] = Number(Ratio(covered_sight, reference_sight));
+  nlohmann::json seen = stats([](const ScanMetrics& m) { return m.coverage_seen; });
+  seen["pooled"] = Number(Ratio(covered_seen, reference_seen));
   return {
       {"scans", scans_.size()},
       {"accuracy", accuracy},
@@ -352,8 +355,9 @@ nlohmann::json MetricsSeries::Summary() const {
       {"intrusion_geometric_m2",
        stats([](const ScanMetrics& m) { return m.intrusion_geometric_m2; })},
       {"intrusion_moving_m2", stats([](const ScanMetrics& m) { return m.intrusion_moving_m2; })},
+      {"intrusion_mask_m2", stats([](const ScanMetrics& m) { return m.intrusion_mask_m2; })},
       {"coverage", coverage},
-      {"coverage_in_sight", in_sight},
+      {"coverage_seen", seen},
       {"polygon_area_m2", stats([](const ScanMetrics& m) { return m.polygon_area_m2; })},
       {"observed_cells", stats([](const ScanMetrics& m) { return double(m.observed); })},
   };

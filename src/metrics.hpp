@@ -18,7 +18,8 @@ struct TruthFrame {
   std::vector<sim::Polygon> obstacles;  // convex, counter-clockwise, at the scan's time
   std::vector<bool> moving;             // per obstacle: it moves (empty: none moves)
   sim::Polygon visible;   // the scanner's true visibility polygon of this scan (its aperture)
-  sim::Polygon in_sight;  // the true visibility all around the sensor now (empty: not scored)
+  sim::Polygon in_sight;  // the true visibility all around the sensor now (empty: coverage
+                          // is not scored)
 };
 
 // Scores of one scan. Rates are NaN when their denominator is empty.
@@ -45,14 +46,17 @@ struct ScanMetrics {
   double intrusion_m2 = 0.0;            // polygon area on truly occupied cells
   double intrusion_geometric_m2 = 0.0;  // polygon area inside the obstacles themselves
   double intrusion_moving_m2 = 0.0;     // of intrusion_m2, on cells a moving obstacle covers
-  double reference_free_m2 = 0.0;       // truly free cells, observed, inside the area seen so far
-  double covered_free_m2 = 0.0;         // polygon area on those cells
-  double coverage = 0.0;                // covered_free_m2 / reference_free_m2
-  // The same restricted to the reference cells in sight of the sensor now (what an in-sight
-  // polygon can reach at all); NaN when TruthFrame::in_sight is empty.
-  double reference_in_sight_m2 = 0.0;
-  double covered_in_sight_m2 = 0.0;
-  double coverage_in_sight = 0.0;
+  double intrusion_mask_m2 = 0.0;  // of intrusion_m2, on cells the engine's free mask calls free
+                                   // (map errors; the rest is the polygon's own)
+  // Coverage (docs/metrics.md): the reference is the truly free, observed cells in sight of
+  // the sensor now (TruthFrame::in_sight); NaN when in_sight is empty.
+  double reference_free_m2 = 0.0;  // truly free cells, observed, in sight now
+  double covered_free_m2 = 0.0;    // polygon area on those cells
+  double coverage = 0.0;           // covered_free_m2 / reference_free_m2
+  // The same over the truly free, observed cells seen at any scan so far (hidden ones too).
+  double reference_seen_m2 = 0.0;
+  double covered_seen_m2 = 0.0;
+  double coverage_seen = 0.0;
 
   nlohmann::json ToJson() const;
 };

@@ -1,8 +1,12 @@
 // The free-space polygon (paper IV.B): C_Edge cell centres simplified by Douglas-Peucker with
 // the paper's extra stop condition, at most N vertices. The farthest-deviating vertex is
-// always split first, so a capped result keeps the most important vertices.
+// always split first, so a capped result keeps the most important vertices. Also the
+// conservative variant (polygon.shape inside): the same border rays cast exactly from the
+// sensor on the free mask, simplified alike, then pulled toward the sensor until it covers
+// free cells only.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "freespace/types.hpp"
@@ -39,6 +43,43 @@ class PolygonSimplifier {
   int max_vertices_;
   double epsilon_;
   std::vector<Segment> segments_;
+};
+
+// The conservative free-space polygon (polygon.shape inside) on a free mask, in map cells
+// (cell (r, c) spans [c, c+1) x [r, r+1)). Every point of the result lies in a free cell or
+// on a free cell's border; the result is star-shaped around the sensor and has at most N
+// vertices. All memory is allocated in the constructor.
+class InsidePolygonBuilder {
+ public:
+  // width, height: the map in cells; max_vertices: N (>= 3); epsilon: tolerance in cells.
+  InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon);
+
+  // `free`: width * height bytes, row-major, non-zero where free; `sensor`: the sensor in
+  // cells. Writes the vertices (counter-clockwise) into `polygon`. When the sensor's cell is
+  // not free, no free area contains the sensor and the polygon is the sensor point, three
+  // times. Returns the simplification error as PolygonSimplifier::Simplify does (cells, before
+  // the pull toward the sensor).
+  double Build(const std::uint8_t* free, const Vec2& sensor, std::vector<Vec2>* polygon);
+
+  // The unsimplified ring of the last Build(): one vertex per border ray where it enters its
+  // first not-free cell (or at the border cell's centre).
+  const std::vector<Vec2>& ring() const { return ring_; }
+
+ private:
+  // Fraction t in [0, 1] of the segment sensor -> target that stays in free cells: the ray
+  // stops where it first touches a cell that is not free.
+  double Trace(const std::uint8_t* free, const Vec2& sensor, const Vec2& target) const;
+  // Scales for a and b toward the sensor such that the triangle (sensor,
+  // sensor + scale_a (a - sensor), sensor + scale_b (b - sensor)) overlaps no cell that is not
+  // free: of moving both alike, only b, or only a, the one that keeps the most area.
+  void EdgePull(const std::uint8_t* free, const Vec2& sensor, const Vec2& a, const Vec2& b,
+                double* scale_a, double* scale_b) const;
+
+  int width_, height_;
+  PolygonSimplifier simplifier_;
+  std::vector<Vec2> ring_;
+  std::vector<int> kept_;
+  std::vector<double> scale_;
 };
 
 // Even-odd point-in-polygon test; a point on the boundary may count either way.

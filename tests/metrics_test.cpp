@@ -88,6 +88,7 @@ TEST(Metrics, CellAccuracyAndFalseFreeByHand) {
     const ScanMetrics moving =
         QualityEvaluator().Evaluate(map.view, Box(0.5, 0.5, 1.5, 1.5), truth);
     EXPECT_DOUBLE_EQ(moving.intrusion_moving_m2, 0.25);
+    EXPECT_DOUBLE_EQ(moving.intrusion_mask_m2, 0.25);  // the mask calls that cell free
   }
   {
     // An obstacle whose edges lie exactly on cell borders covers its cell only.
@@ -108,6 +109,7 @@ TEST(Metrics, PolygonIntrusionAndCoverageByHand) {
   TruthFrame truth;
   truth.obstacles = {Box(1.25, 1.25, 1.75, 1.75)};
   truth.visible = WholeMap();
+  truth.in_sight = WholeMap();
   HandMap map({"FFF.",  //
                "FFFF",  //
                "FOFF",  //
@@ -115,17 +117,25 @@ TEST(Metrics, PolygonIntrusionAndCoverageByHand) {
   {
     // The polygon [0.5, 2.5]^2 (4 m^2) holds cell (1, 1) whole: intrusion 1 m^2 on truly
     // occupied cells, 0.25 m^2 on the obstacle itself. Reference: the 14 observed, truly free
-    // cells (16 less the obstacle's and the unknown one), 14 m^2; the polygon covers 4 - 1 of
-    // them: coverage 3 / 14.
+    // cells in sight (16 less the obstacle's and the unknown one), 14 m^2; the polygon covers
+    // 4 - 1 of them: coverage 3 / 14. All of them have been seen: the same over the seen area.
     const std::vector<Vec2> polygon = Box(0.5, 0.5, 2.5, 2.5);
     const ScanMetrics m = QualityEvaluator().Evaluate(map.view, polygon, truth);
     EXPECT_DOUBLE_EQ(m.polygon_area_m2, 4.0);
     EXPECT_DOUBLE_EQ(m.intrusion_m2, 1.0);
     EXPECT_DOUBLE_EQ(m.intrusion_geometric_m2, 0.25);
+    EXPECT_DOUBLE_EQ(m.intrusion_mask_m2, 0.0);  // the free mask leaves cell (1, 1) out
     EXPECT_DOUBLE_EQ(m.reference_free_m2, 14.0);
     EXPECT_DOUBLE_EQ(m.covered_free_m2, 3.0);
     EXPECT_DOUBLE_EQ(m.coverage, 3.0 / 14.0);
-    EXPECT_TRUE(std::isnan(m.coverage_in_sight));  // no in-sight polygon given
+    EXPECT_DOUBLE_EQ(m.reference_seen_m2, 14.0);
+    EXPECT_DOUBLE_EQ(m.coverage_seen, 3.0 / 14.0);
+    // No in-sight polygon given: coverage is not scored; the seen-so-far one still is.
+    TruthFrame blind = truth;
+    blind.in_sight.clear();
+    const ScanMetrics b = QualityEvaluator().Evaluate(map.view, polygon, blind);
+    EXPECT_TRUE(std::isnan(b.coverage));
+    EXPECT_DOUBLE_EQ(b.coverage_seen, 3.0 / 14.0);
   }
   {
     // A polygon covering a quarter of the obstacle's cell: [0.5, 1.5]^2. Intrusion 0.25 m^2 on
@@ -145,14 +155,16 @@ TEST(Metrics, PolygonIntrusionAndCoverageByHand) {
     EXPECT_DOUBLE_EQ(m.intrusion_m2, 0.0);
     EXPECT_DOUBLE_EQ(m.covered_free_m2, 5.0);
     EXPECT_DOUBLE_EQ(m.coverage, 5.0 / 14.0);
-    // In sight: only the western half (x < 2): 7 reference cells, of which the L covers
-    // column 0 (rows 0 .. 2) and cell (0, 1): 4 m^2.
+    // In sight now: only the western half (x < 2): 7 reference cells, of which the L covers
+    // column 0 (rows 0 .. 2) and cell (0, 1): 4 m^2. The seen area is still the whole map.
     TruthFrame half = truth;
     half.in_sight = Box(0, 0, 2, 4);
     const ScanMetrics h = QualityEvaluator().Evaluate(map.view, polygon, half);
-    EXPECT_DOUBLE_EQ(h.reference_in_sight_m2, 7.0);
-    EXPECT_DOUBLE_EQ(h.covered_in_sight_m2, 4.0);
-    EXPECT_DOUBLE_EQ(h.coverage_in_sight, 4.0 / 7.0);
+    EXPECT_DOUBLE_EQ(h.reference_free_m2, 7.0);
+    EXPECT_DOUBLE_EQ(h.covered_free_m2, 4.0);
+    EXPECT_DOUBLE_EQ(h.coverage, 4.0 / 7.0);
+    EXPECT_DOUBLE_EQ(h.reference_seen_m2, 14.0);
+    EXPECT_DOUBLE_EQ(h.coverage_seen, 5.0 / 14.0);
   }
 }
 
@@ -162,21 +174,21 @@ TEST(Metrics, TheSeenAreaAccumulatesAndMovesWithTheMap) {
   HandMap first({"FFFF", "FFFF", "FFFF", "FFFF"});
   QualityEvaluator evaluator;
   const std::vector<Vec2> polygon = Box(0, 0, 4, 4);
-  EXPECT_DOUBLE_EQ(evaluator.Evaluate(first.view, polygon, truth).reference_free_m2, 4.0);
+  EXPECT_DOUBLE_EQ(evaluator.Evaluate(first.view, polygon, truth).reference_seen_m2, 4.0);
   // The map moves one cell west: world x 0 .. 1 is now column 1. This scan sees nothing new.
   truth.visible.clear();
   HandMap west({"FFFF", "FFFF", "FFFF", "FFFF"}, {-1, 0});
   const ScanMetrics m = evaluator.Evaluate(west.view, polygon, truth);
-  EXPECT_DOUBLE_EQ(m.reference_free_m2, 4.0);
+  EXPECT_DOUBLE_EQ(m.reference_seen_m2, 4.0);
   EXPECT_EQ(evaluator.seen()[0 * 4 + 1], 1);
   EXPECT_EQ(evaluator.seen()[0 * 4 + 0], 0);
   // Two cells east: world x 0 .. 1 has left the map.
   HandMap east({"FFFF", "FFFF", "FFFF", "FFFF"}, {1, 0});
-  EXPECT_TRUE(std::isnan(evaluator.Evaluate(east.view, polygon, truth).coverage));
+  EXPECT_TRUE(std::isnan(evaluator.Evaluate(east.view, polygon, truth).coverage_seen));
   // A map whose origin is not a whole number of cells away restarts the seen area.
   truth.visible = WholeMap();
   HandMap shifted({"FFFF", "FFFF", "FFFF", "FFFF"}, {0.5, 0});
-  EXPECT_DOUBLE_EQ(evaluator.Evaluate(shifted.view, polygon, truth).reference_free_m2, 16.0);
+  EXPECT_DOUBLE_EQ(evaluator.Evaluate(shifted.view, polygon, truth).reference_seen_m2, 16.0);
 }
 
 TEST(Metrics, SummaryPoolsAndAverages) {

@@ -99,6 +99,17 @@ TEST(Parity, IntelLabEveryScan) {
   RunLog(path, Indoor, SensorModelKind::kEnhanced);
 }
 
+Config IndoorInside(const SensorConfig& sensor) {
+  Config c = IndoorConfig(sensor);
+  c.polygon.shape = PolygonShape::kInside;
+  return c;
+}
+
+TEST(Parity, IntelLabInsidePolygonEveryScan) {
+  FREESPACE_REQUIRE_DATA("carmen/intel-corrected.log", path);
+  RunLog(path, IndoorInside, SensorModelKind::kEnhanced);
+}
+
 TEST(Parity, AcesBuildingEveryScan) {
   FREESPACE_REQUIRE_DATA("carmen/aces-corrected.log", path);
   RunLog(path, Indoor, SensorModelKind::kEnhanced);

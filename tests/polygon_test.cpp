@@ -1,10 +1,13 @@
 // Capped Douglas-Peucker (paper IV.B, Fig. 7): N and epsilon each bind, the most deviating
 // vertices are kept first, the result stays within its reported error, and it keeps the
-// vehicle inside.
+// vehicle inside. The conservative polygon (polygon.shape inside) on random free masks: it
+// covers free cells only, is star-shaped around the sensor, has at most N vertices, and on an
+// open map is the whole rectangle its border rays reach.
 #include "polygon.hpp"
 
 #include <random>
 
+#include "sim/geometry.hpp"
 #include "test_util.hpp"
 
 namespace freespace {
@@ -103,6 +106,133 @@ TEST(Polygon, AtLeastThreeVerticesAndSmallRingsUnchanged) {
   EXPECT_GE(kept.size(), 3u);
   s.Simplify({{0, 0}, {1, 1}}, Vec2(0, 0), &kept);
   EXPECT_EQ(kept.size(), 2u);
+}
+
+// A free mask (1 = free) of random rectangles and single cells that are not free, on an open
+// map; border cells stay free or not at random too.
+std::vector<std::uint8_t> RandomMask(int width, int height, std::mt19937* rng) {
+  std::vector<std::uint8_t> free(std::size_t(width) * height, 1);
+  std::uniform_int_distribution<int> col(0, width - 1), row(0, height - 1), size(1, 4),
+      count(0, 12);
+  for (int k = count(*rng); k > 0; --k) {
+    const int c = col(*rng), r = row(*rng), w = size(*rng), h = size(*rng);
+    for (int y = r; y < std::min(height, r + h); ++y) {
+      for (int x = c; x < std::min(width, c + w); ++x) free[std::size_t(y) * width + x] = 0;
+    }
+  }
+  for (int k = count(*rng) * 3; k > 0; --k) free[std::size_t(row(*rng)) * width + col(*rng)] = 0;
+  return free;
+}
+
+// Area of `polygon` on cells that are not free (cells^2).
+double AreaOnNotFree(const std::vector<Vec2>& polygon, const std::vector<std::uint8_t>& free,
+                     int width, int height) {
+  double area = 0.0;
+  for (int r = 0; r < height; ++r) {
+    for (int c = 0; c < width; ++c) {
+      if (!free[std::size_t(r) * width + c]) area += sim::AreaInBox(polygon, c, r, c + 1, r + 1);
+    }
+  }
+  return area;
+}
+
+// Consecutive vertices never turn clockwise around `sensor` and go round it at most once.
+void ExpectStarShaped(const std::vector<Vec2>& polygon, const Vec2& sensor) {
+  double turned = 0.0;
+  for (std::size_t k = 0; k < polygon.size(); ++k) {
+    const Vec2 u = polygon[k] - sensor, v = polygon[(k + 1) % polygon.size()] - sensor;
+    if (u.norm() < 1e-12 || v.norm() < 1e-12) continue;
+    const double cross = u.x() * v.y() - u.y() * v.x();
+    EXPECT_GE(cross, -1e-9 * u.norm() * v.norm()) << "edge " << k << " turns clockwise";
+    turned += std::atan2(cross, u.dot(v));
+  }
+  EXPECT_LE(turned, 2 * M_PI + 1e-9);
+}
+
+TEST(InsidePolygon, CoversFreeCellsOnlyOnRandomMasks) {
+  std::mt19937 rng(7);
+  int checked = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const int width = 12 + int(rng() % 40), height = 12 + int(rng() % 40);
+    const std::vector<std::uint8_t> free = RandomMask(width, height, &rng);
+    // The sensor anywhere in the map; every fourth time on a cell corner or edge exactly.
+    std::uniform_real_distribution<double> x(1.0, width - 1.0), y(1.0, height - 1.0);
+    Vec2 sensor(x(rng), y(rng));
+    if (trial % 4 == 0) sensor = Vec2(std::round(sensor.x()), std::round(sensor.y()));
+    if (trial % 4 == 1) sensor.x() = std::round(sensor.x());
+    const int n = std::vector<int>{3, 5, 8, 32, 4096}[trial % 5];
+    const double epsilon = trial % 3 == 0 ? 0.0 : 1.0;
+    InsidePolygonBuilder builder(width, height, n, epsilon);
+    std::vector<Vec2> polygon;
+    builder.Build(free.data(), sensor, &polygon);
+    const std::string where = "trial " + std::to_string(trial);
+    ASSERT_GE(polygon.size(), 3u) << where;
+    ASSERT_LE(int(polygon.size()), n) << where;
+    EXPECT_LE(AreaOnNotFree(polygon, free, width, height), 1e-6) << where;
+    ExpectStarShaped(polygon, sensor);
+    // The traced rays of the unsimplified ring never pass through a not-free cell's inside.
+    for (const Vec2& v : builder.ring()) {
+      for (int k = 1; k < 200; ++k) {
+        const Vec2 q = sensor + (k / 200.0) * (v - sensor);
+        const double fx = q.x() - std::floor(q.x()), fy = q.y() - std::floor(q.y());
+        if (fx < 1e-9 || fx > 1 - 1e-9 || fy < 1e-9 || fy > 1 - 1e-9) continue;
+        ASSERT_TRUE(free[std::size_t(std::floor(q.y())) * width + int(std::floor(q.x()))])
+            << where << ": ray to " << v.transpose() << " passes " << q.transpose();
+      }
+    }
+    const int sc = int(std::floor(sensor.x())), sr = int(std::floor(sensor.y()));
+    if (!free[std::size_t(sr) * width + sc]) {
+      // No free cell holds the sensor: the polygon is the sensor point.
+      for (const Vec2& v : polygon) EXPECT_EQ(v, sensor) << where;
+    } else {
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 200);
+}
+
+TEST(InsidePolygon, OpenMapGivesTheBorderCentresRectangle) {
+  // Everything free: each border ray reaches its cell's centre, Douglas-Peucker keeps the four
+  // corners, nothing is pulled in: the rectangle of the border cells' centres.
+  const int width = 30, height = 20;
+  const std::vector<std::uint8_t> free(std::size_t(width) * height, 1);
+  for (const Vec2& sensor : {Vec2(7.3, 11.9), Vec2(15, 10), Vec2(1.2, 18.7)}) {
+    InsidePolygonBuilder builder(width, height, 32, 0.0);
+    std::vector<Vec2> polygon;
+    EXPECT_EQ(builder.Build(free.data(), sensor, &polygon), 0.0);
+    EXPECT_NEAR(std::abs(sim::SignedArea(polygon)), (width - 1.0) * (height - 1.0), 1e-9);
+    EXPECT_TRUE(PointInPolygon(polygon, sensor));
+  }
+}
+
+TEST(InsidePolygon, PullsACappedEdgeInFrontOfTheObstacleItCuts) {
+  // One not-free cell (10, 10) in an open 21 x 21 map, the sensor at (10.5, 5.5) south of it.
+  // The rays north stop at the cell's south face y = 10; with N = 4 the simplified polygon
+  // cannot follow the notch, and the edge across it is pulled in to y <= 10 there.
+  const int size = 21;
+  std::vector<std::uint8_t> free(std::size_t(size) * size, 1);
+  free[10 * size + 10] = 0;
+  const Vec2 sensor(10.5, 5.5);
+  for (const int n : {4, 8, 4096}) {
+    InsidePolygonBuilder builder(size, size, n, 0.0);
+    std::vector<Vec2> polygon;
+    builder.Build(free.data(), sensor, &polygon);
+    EXPECT_LE(AreaOnNotFree(polygon, free, size, size), 1e-9) << "N " << n;
+    EXPECT_TRUE(PointInPolygon(polygon, sensor));
+    EXPECT_LE(int(polygon.size()), n);
+    // The straight line north from the sensor ends on the cell's face.
+    double north = 0.0;
+    for (std::size_t k = 0; k < polygon.size(); ++k) {
+      const Vec2& a = polygon[k];
+      const Vec2& b = polygon[(k + 1) % polygon.size()];
+      if ((a.x() - sensor.x()) * (b.x() - sensor.x()) <= 0 && a.x() != b.x()) {
+        const double y = a.y() + (b.y() - a.y()) * (sensor.x() - a.x()) / (b.x() - a.x());
+        if (y > sensor.y()) north = std::max(north, y);
+      }
+    }
+    EXPECT_LE(north, 10.0 + 1e-9) << "N " << n;
+    EXPECT_GT(north, 5.5) << "N " << n;
+  }
 }
 
 }  // namespace

@@ -27,7 +27,7 @@ grep -q '"format": "freespace-truth"' "$out/sim/truth.json" || fail "truth forma
   >"$out/eval.txt" 2>&1 || fail "eval failed: $(cat "$out/eval.txt")"
 grep -q "cell accuracy" "$out/eval.txt" || fail "eval prints no accuracy"
 grep -q '"per_scan"' "$out/eval/eval.json" || fail "eval.json has no per_scan"
-[ "$(grep -c '"coverage_in_sight"' "$out/eval/eval.json")" -ge 26 ] || fail "eval.json per-scan"
+[ "$(grep -c '"coverage_seen"' "$out/eval/eval.json")" -ge 26 ] || fail "eval.json per-scan"
 
 # A truth of another drive: exit 2 and a message saying so.
 "$bin" simulate --scenario parking --duration 0.5 --seed 5 --out "$out/short" 2>/dev/null

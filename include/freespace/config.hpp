@@ -81,8 +81,17 @@ struct ClassifyConfig {
   double vehicle_width_m = 1.8;  // opening element: odd square of about this width; >= 0
 };
 
+enum class PolygonShape {
+  kPaper,   // vertices at the C_Edge cell centres (paper IV.B): edges run through the centres
+            // of the first not-free cells, so the polygon covers about half of each
+  kInside,  // conservative: the border rays cast exactly from the sensor on the free mask,
+            // vertices where a ray first touches a not-free cell, the simplified polygon
+            // pulled toward the sensor until it covers free cells only (docs/design.md)
+};
+
 // Free-space polygon: modified Douglas-Peucker (paper IV.B).
 struct PolygonConfig {
+  PolygonShape shape = PolygonShape::kPaper;
   int max_vertices = 32;   // N; 3 .. 4096
   double epsilon_m = 0.2;  // tolerance; >= 0
 };
@@ -126,5 +135,6 @@ std::vector<std::string> YamlSections(const std::string& yaml_text);
 const char* ToString(SensorModelKind kind);
 const char* ToString(AlignmentKind kind);
 const char* ToString(BackendKind kind);
+const char* ToString(PolygonShape shape);
 
 }  // namespace freespace

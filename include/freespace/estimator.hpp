@@ -84,9 +84,10 @@ struct Result {
   // metres and in map cells (continuous: cell (r, c) spans [c, c+1) x [r, r+1)).
   std::vector<Vec2> polygon;
   std::vector<Vec2> polygon_cells;
-  // C_Edge: the in-sight edge cells in label order (the unsimplified polygon's vertices).
+  // C_Edge: the in-sight edge cells in label order (with polygon.shape paper, the unsimplified
+  // polygon's vertices).
   std::vector<CellIndex> edge_cells;
-  double simplification_error_m = 0.0;  // largest distance of a dropped C_Edge vertex
+  double simplification_error_m = 0.0;  // largest distance of a dropped ring vertex
   bool polygon_contains_vehicle = false;
 
   ScanStats stats;
@@ -112,6 +113,7 @@ class Preprocessor;
 class CircleAligner;
 class MapWarper;
 class PolygonSimplifier;
+class InsidePolygonBuilder;
 
 class Estimator {
  public:
@@ -144,6 +146,8 @@ class Estimator {
   std::unique_ptr<MapWarper> warper_;  // alignment.kind rotate only
   std::vector<LogOdds> warp_buffer_;
   std::unique_ptr<PolygonSimplifier> simplifier_;
+  std::unique_ptr<InsidePolygonBuilder> inside_;  // polygon.shape inside only
+  std::vector<std::uint8_t> free_scan_;           // the free mask for it, read back every scan
   Result result_;
   std::uint64_t scans_ = 0;
   std::vector<Vec2> ring_;  // C_Edge cell centres, the unsimplified polygon

@@ -35,10 +35,12 @@ struct EngineOptions {
 };
 void AddEngineOptions(CLI::App* command, EngineOptions* options);
 
-// The config of a command: defaults, overridden by --config, then by --backend / --threads.
+// The config of a command: `base` (the defaults unless a command has its own), replaced by
+// --config (whose missing fields keep the defaults), then overridden by --backend / --threads.
 // When the config file has no `sensor` section and `log_sensor` is given, the sensor comes
 // from the log. Throws ConfigError.
-Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_sensor);
+Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_sensor,
+                        const Config& base = Config());
 
 // Creates `dir` (and parents); throws InputError when it cannot.
 void MakeDirectories(const std::string& dir);

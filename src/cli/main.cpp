@@ -22,8 +22,9 @@ void AddEngineOptions(CLI::App* command, EngineOptions* options) {
       ->check(CLI::Range(0, 1024));
 }
 
-Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_sensor) {
-  Config config;
+Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_sensor,
+                        const Config& base) {
+  Config config = base;
   bool has_sensor = false;
   if (!options.config_path.empty()) {
     std::ifstream in(options.config_path);

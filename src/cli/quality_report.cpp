@@ -49,10 +49,11 @@ void PrintQuality(std::ostream& out, const nlohmann::json& s) {
   out << line;
   std::snprintf(line, sizeof line,
                 "  polygon intrusion, cells        mean %.3f m2  median %.3f  p95 %.3f  max %.3f   "
-                "aim < 0.04 m2   (moving obstacles' cells: mean %.3f m2)\n",
+                "aim < 0.04 m2   (moving obstacles' cells: mean %.3f m2; cells the free mask "
+                "calls free: mean %.3f m2)\n",
                 Get(s, "intrusion_m2", "mean"), Get(s, "intrusion_m2", "median"),
                 Get(s, "intrusion_m2", "p95"), Get(s, "intrusion_m2", "max"),
-                Get(s, "intrusion_moving_m2", "mean"));
+                Get(s, "intrusion_moving_m2", "mean"), Get(s, "intrusion_mask_m2", "mean"));
   out << line;
   std::snprintf(line, sizeof line,
                 "  polygon intrusion, geometric    mean %.3f m2  median %.3f  p95 %.3f  max %.3f\n",
@@ -62,13 +63,13 @@ void PrintQuality(std::ostream& out, const nlohmann::json& s) {
   out << line;
   std::snprintf(
       line, sizeof line,
-      "  polygon coverage                mean %.4f  min %.4f  pooled %.4f   aim >= 0.85\n",
+      "  polygon coverage, in sight now  mean %.4f  min %.4f  pooled %.4f   aim >= 0.85\n",
       Get(s, "coverage", "mean"), Get(s, "coverage", "min"), Get(s, "coverage", "pooled"));
   out << line;
   std::snprintf(line, sizeof line,
-                "  coverage of what is in sight    mean %.4f  min %.4f  pooled %.4f\n",
-                Get(s, "coverage_in_sight", "mean"), Get(s, "coverage_in_sight", "min"),
-                Get(s, "coverage_in_sight", "pooled"));
+                "  coverage of all seen so far     mean %.4f  min %.4f  pooled %.4f\n",
+                Get(s, "coverage_seen", "mean"), Get(s, "coverage_seen", "min"),
+                Get(s, "coverage_seen", "pooled"));
   out << line;
 }
 
