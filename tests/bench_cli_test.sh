@@ -56,7 +56,7 @@ for model in ("enhanced", "conventional"):
     q = m[model]["quality"]
     check(q["scans"] == 24 and 0 < q["accuracy"] <= 1, model + " accuracy")
     check("accuracy" in q["summary"], model + " metrics summary")
-    check(m[model]["model_us"] > 0 and m[model]["total_us"] > 0, model + " times")
+    check(0 < m[model]["model_us"] < m[model]["map_us"] < m[model]["total_us"], model + " times")
 check(m["model_speedup"] > 0, "model speedup")
 a = r["alignment"]
 # The circle alignment is exact; the rotated map is resampled every scan.
@@ -64,13 +64,15 @@ check(a["circle"]["error"]["different_fraction"] == 0, "circle differs from the 
 check(a["circle"]["error"]["class_mismatch"] == 0, "circle class mismatch")
 check(a["rotate"]["error"]["different_fraction"] > 0, "rotate shows no error")
 p = r["comparisons"]
-for k in ("enhanced_model_speedup", "enhanced_time_saved_percent", "accuracy_enhanced",
+check(len(r["load_average"]) == 2, "load average")
+for k in ("enhanced_model_speedup", "enhanced_time_saved_percent", "enhanced_map_time_saved_percent",
+          "circle_map_time_saved_percent", "accuracy_enhanced",
           "accuracy_conventional", "circle_different_fraction", "rotate_different_fraction",
           "circle_time_saved_percent", "pipeline_median_us", "map_exponent"):
     check(k in p, "comparisons." + k)
 s = r["scaling"]
 check([x["cells"] for x in s["map"]] == [150, 300, 600, 1200, 1500, 2400, 3000], "map sizes")
-check(all(x["total_us"] > 0 for x in s["map"]), "map times")
+check(all(x["total_us"] > 0 and x["ns_per_cell"] > 0 for x in s["map"]), "map times")
 check(s["map_exponent"]["tbb"]["all"] is not None, "map exponent")
 for model in ("enhanced", "conventional"):
     series = [x for x in s["points"] if x["backend"] == "tbb" and x["sensor_model"] == model]
