@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "freespace/estimator.hpp"
 #include "host_backend.hpp"
 #include "preprocess.hpp"
 #include "reference_map.hpp"
+#include "sim/scorer.hpp"
 
 namespace freespace {
 namespace {
@@ -39,13 +41,83 @@ PipelineRun TimePipeline(const Config& config, const std::vector<Scan>& scans, i
   return run;
 }
 
-nlohmann::json CoverageStats::ToJson() const {
-  return {{"footprint_cells", footprint_cells},
-          {"enhanced_holes", enhanced_holes},
-          {"conventional_holes", conventional_holes},
-          {"conventional_mean_updates", conventional_mean_updates},
-          {"conventional_max_updates", conventional_max_updates}};
+nlohmann::json FootprintStats::ToJson() const {
+  return {{"holes", holes},
+          {"moire", moire},
+          {"conflicts", conflicts},
+          {"conflicts_free", conflicts_free},
+          {"mean_updates", mean_updates},
+          {"max_updates", max_updates}};
 }
+
+nlohmann::json CoverageStats::ToJson() const {
+  return {{"scans", scans},
+          {"footprint_cells", footprint_cells},
+          {"enhanced", enhanced.ToJson()},
+          {"conventional", conventional.ToJson()}};
+}
+
+namespace {
+
+// Accumulates one scan's footprint statistics of one model. `updates[i]`: updates cell i got
+// in the scan (0: none).
+class FootprintCounter {
+ public:
+  FootprintCounter(int width, int height, double resolution_rad)
+      : width_(width), height_(height), resolution_rad_(resolution_rad) {}
+
+  void Add(const std::vector<std::uint8_t>& footprint, const Vec2& sensor,
+           const std::function<int(std::size_t)>& updates, FootprintStats* out) const {
+    double holes = 0, moire = 0, updated = 0, sum = 0, max_updates = 0;
+    for (int r = 0; r < height_; ++r) {
+      for (int c = 0; c < width_; ++c) {
+        const std::size_t i = std::size_t(r) * width_ + c;
+        if (!footprint[i]) continue;
+        const int n = updates(i);
+        if (n > 0) {
+          ++updated;
+          sum += n;
+          max_updates = std::max(max_updates, double(n));
+          continue;
+        }
+        ++holes;
+        moire += IsMoire(r, c, sensor, updates);
+      }
+    }
+    out->holes += holes;
+    out->moire += moire;
+    out->mean_updates += updated > 0 ? sum / updated : 0.0;
+    out->max_updates += max_updates;
+  }
+
+ private:
+  // A hole with an updated cell on both sides along its arc about the sensor, within one beam
+  // spacing of arc (at least one cell), sampled every cell of arc.
+  bool IsMoire(int r, int c, const Vec2& sensor,
+               const std::function<int(std::size_t)>& updates) const {
+    const Vec2 d(c + 0.5 - sensor.x(), r + 0.5 - sensor.y());
+    const double range = std::hypot(d.x(), d.y());
+    if (range < 1.0) return false;
+    const int steps = std::max(1, int(std::ceil(range * resolution_rad_)));
+    for (const int side : {-1, 1}) {
+      bool found = false;
+      for (int j = 1; j <= steps && !found; ++j) {
+        const double a = side * j / range, ca = std::cos(a), sa = std::sin(a);
+        const int qc = int(std::floor(sensor.x() + ca * d.x() - sa * d.y()));
+        const int qr = int(std::floor(sensor.y() + sa * d.x() + ca * d.y()));
+        if (qc < 0 || qr < 0 || qc >= width_ || qr >= height_) break;
+        found = updates(std::size_t(qr) * width_ + qc) > 0;
+      }
+      if (!found) return false;
+    }
+    return true;
+  }
+
+  int width_, height_;
+  double resolution_rad_;
+};
+
+}  // namespace
 
 CoverageStats SensorModelCoverage(const Config& config, const std::vector<Scan>& scans, int every) {
   const int width = config.map.width_cells, height = config.map.height_cells;
@@ -54,9 +126,9 @@ CoverageStats SensorModelCoverage(const Config& config, const std::vector<Scan>&
   Preprocessor preprocess(config);
   const std::size_t cells = std::size_t(width) * height;
   std::vector<std::uint8_t> mask(cells), footprint(cells), row(width);
-  std::vector<std::int32_t> counts(cells), vertices;
+  std::vector<std::int32_t> free_counts(cells), occupied_counts(cells), vertices;
+  const FootprintCounter counter(width, height, config.sensor.angular_resolution_deg * M_PI / 180);
   CoverageStats out;
-  int n = 0;
   const Vec2 sensor(0.5 * width + 0.37, 0.5 * height + 0.21);  // off-centre of a cell
   for (std::size_t k = 0; k < scans.size(); k += std::max(1, every)) {
     ScanStats stats;
@@ -85,43 +157,120 @@ CoverageStats SensorModelCoverage(const Config& config, const std::vector<Scan>&
       std::copy(row.begin(), row.end(), footprint.begin() + std::size_t(r) * width);
     }
     for (int i = 0; i < job.occupied_count; ++i) footprint[job.occupied[i]] = 1;
-    // Conventional: count the updates per cell.
+    // Conventional: count the free and the occupied updates per cell apart.
     RayJob rays;
     preprocess.ProjectRays(sensor, 0.0, width, height, &rays);
-    std::fill(counts.begin(), counts.end(), 0);
+    std::fill(free_counts.begin(), free_counts.end(), 0);
+    std::fill(occupied_counts.begin(), occupied_counts.end(), 0);
     for (int i = 0; i < rays.ray_count; ++i) {
-      host::AccumulateRay(counts.data(), width, height, rays.origin_col, rays.origin_row,
-                          rays.ends[2 * i], rays.ends[2 * i + 1], 1, 1);
+      const int ec = rays.ends[2 * i], er = rays.ends[2 * i + 1];
+      host::AccumulateRay(free_counts.data(), width, height, rays.origin_col, rays.origin_row, ec,
+                          er, 1, 0);
+      host::AccumulateRay(occupied_counts.data(), width, height, rays.origin_col, rays.origin_row,
+                          ec, er, 0, 1);
     }
-    double fp = 0, enhanced_holes = 0, conventional_holes = 0, updated = 0, updates = 0;
-    double max_updates = 0;
+    out.footprint_cells += double(std::count(footprint.begin(), footprint.end(), 1));
+    counter.Add(
+        footprint, sensor, [&](std::size_t i) { return mask[i] == kUpdateNone ? 0 : 1; },
+        &out.enhanced);
+    counter.Add(
+        footprint, sensor, [&](std::size_t i) { return free_counts[i] + occupied_counts[i]; },
+        &out.conventional);
+    double conflicts = 0, conflicts_free = 0;
     for (std::size_t i = 0; i < cells; ++i) {
-      if (!footprint[i]) continue;
-      ++fp;
-      enhanced_holes += mask[i] == kUpdateNone;
-      if (counts[i] == 0) {
-        ++conventional_holes;
-      } else {
-        ++updated;
-        updates += counts[i];
-        max_updates = std::max(max_updates, double(counts[i]));
-      }
+      if (free_counts[i] == 0 || occupied_counts[i] == 0) continue;
+      ++conflicts;
+      conflicts_free += std::int64_t(free_counts[i]) * params.l_free +
+                            std::int64_t(occupied_counts[i]) * params.l_occupied <
+                        0;
     }
-    out.footprint_cells += fp;
-    out.enhanced_holes += enhanced_holes;
-    out.conventional_holes += conventional_holes;
-    out.conventional_mean_updates += updated > 0 ? updates / updated : 0.0;
-    out.conventional_max_updates += max_updates;
-    ++n;
+    out.conventional.conflicts += conflicts;
+    out.conventional.conflicts_free += conflicts_free;
+    ++out.scans;
   }
-  if (n > 0) {
+  if (out.scans > 0) {
+    const double n = out.scans;
     out.footprint_cells /= n;
-    out.enhanced_holes /= n;
-    out.conventional_holes /= n;
-    out.conventional_mean_updates /= n;
-    out.conventional_max_updates /= n;
+    for (FootprintStats* s : {&out.enhanced, &out.conventional}) {
+      s->holes /= n;
+      s->moire /= n;
+      s->conflicts /= n;
+      s->conflicts_free /= n;
+      s->mean_updates /= n;
+      s->max_updates /= n;
+    }
   }
   return out;
+}
+
+nlohmann::json TruthQuality::ToJson() const {
+  return {{"scans", scans},
+          {"accuracy", accuracy},
+          {"accuracy_mean", accuracy_mean},
+          {"observed_cells", observed_cells},
+          {"false_free_rate", false_free_rate},
+          {"false_occupied", false_occupied},
+          {"coverage", coverage},
+          {"summary", summary}};
+}
+
+TruthQuality ScoreAgainstTruth(const Config& config, const std::vector<Scan>& scans,
+                               const sim::Truth& truth) {
+  Estimator estimator(config);
+  sim::TruthScorer scorer(truth);
+  MetricsSeries series;
+  for (std::size_t k = 0; k < scans.size(); ++k) {
+    const Result& r = estimator.Process(scans[k]);
+    if (r.status == ScanStatus::kRejected) continue;
+    series.Add(scorer.Score(k, estimator.map(), r));
+  }
+  TruthQuality out;
+  double correct = 0, observed = 0, false_free = 0, occupied = 0, covered = 0, reference = 0;
+  double accuracy_sum = 0, accuracy_n = 0;
+  for (const ScanMetrics& m : series.scans()) {
+    correct += double(m.correct);
+    observed += double(m.observed);
+    false_free += double(m.false_free);
+    occupied += double(m.observed_occupied);
+    covered += m.covered_free_m2;
+    reference += m.reference_free_m2;
+    out.false_occupied += double(m.false_occupied);
+    if (std::isfinite(m.accuracy)) accuracy_sum += m.accuracy, ++accuracy_n;
+  }
+  out.scans = long(series.size());
+  const double n = std::max<double>(1.0, double(series.size()));
+  out.accuracy = observed > 0 ? correct / observed : NAN;
+  out.accuracy_mean = accuracy_n > 0 ? accuracy_sum / accuracy_n : NAN;
+  out.observed_cells = observed / n;
+  out.false_free_rate = occupied > 0 ? false_free / occupied : NAN;
+  out.false_occupied /= n;
+  out.coverage = reference > 0 ? covered / reference : NAN;
+  out.summary = series.Summary();
+  return out;
+}
+
+std::vector<Scan> SimulateScans(const sim::SimulationOptions& options, int limit,
+                                SensorConfig* sensor) {
+  sim::Simulation simulation(options);
+  *sensor = simulation.truth().scanner.EngineSensor();
+  std::vector<Scan> scans;
+  Scan scan;
+  while ((limit <= 0 || int(scans.size()) < limit) && simulation.Next(&scan)) {
+    scans.push_back(scan);
+  }
+  return scans;
+}
+
+double LogLogSlope(const std::vector<double>& x, const std::vector<double>& y) {
+  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < x.size() && i < y.size(); ++i) {
+    if (!(x[i] > 0) || !(y[i] > 0)) continue;
+    const double lx = std::log(x[i]), ly = std::log(y[i]);
+    n += 1, sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+  }
+  const double den = n * sxx - sx * sx;
+  if (n < 2 || !(std::abs(den) > 0)) return NAN;
+  return (n * sxy - sx * sy) / den;
 }
 
 nlohmann::json AlignmentError::ToJson() const {

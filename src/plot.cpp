@@ -12,7 +12,7 @@ namespace freespace {
 
 void WriteLinePlot(const std::string& path, const PlotSpec& spec,
                    const std::vector<PlotSeries>& series) {
-  const int width = 900, height = 600, left = 90, right = 30, top = 50, bottom = 70;
+  const int width = 900, height = 620, left = 90, right = 30, top = 70, bottom = 70;
   cv::Mat image(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
   double x_lo = INFINITY, x_hi = -INFINITY, y_lo = INFINITY, y_hi = -INFINITY;
   for (const PlotSeries& s : series) {
@@ -69,7 +69,7 @@ void WriteLinePlot(const std::string& path, const PlotSpec& spec,
     cv::putText(image, text, cv::Point(8, y + 5), cv::FONT_HERSHEY_SIMPLEX, 0.45, ink, 1,
                 cv::LINE_AA);
   }
-  cv::putText(image, spec.title, cv::Point(left, 30), cv::FONT_HERSHEY_SIMPLEX, 0.7, ink, 2,
+  cv::putText(image, spec.title, cv::Point(8, 28), cv::FONT_HERSHEY_SIMPLEX, 0.7, ink, 2,
               cv::LINE_AA);
   cv::putText(image, spec.x_label, cv::Point(width / 2 - 80, height - 20), cv::FONT_HERSHEY_SIMPLEX,
               0.55, ink, 1, cv::LINE_AA);
