@@ -3,6 +3,7 @@
 #include "host_backend.hpp"
 
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cstring>
 #include <string>
@@ -44,11 +45,24 @@ void HostBackend::WriteUpdateMask(const std::uint8_t* src) {
   std::memcpy(update_.data(), src, cells());
 }
 void HostBackend::ReadFree(std::uint8_t* dst) {
+  // Eight cells at a time: byte k of Spread(b) is bit k of b.
+  static const auto spread = [] {
+    std::array<std::uint64_t, 256> table{};
+    for (int b = 0; b < 256; ++b) {
+      for (int k = 0; k < 8; ++k) table[b] |= std::uint64_t((b >> k) & 1) << (8 * k);
+    }
+    return table;
+  }();
   const int width = params_.width, nw = words();
   for (int r = 0; r < params_.height; ++r) {
-    for (int c = 0; c < width; ++c) {
-      dst[std::size_t(r) * width + c] = (free_[std::size_t(r) * nw + c / 64] >> (c % 64)) & 1;
+    const std::uint64_t* bits = free_.data() + std::size_t(r) * nw;
+    std::uint8_t* out = dst + std::size_t(r) * width;
+    int c = 0;
+    for (; c + 8 <= width; c += 8) {
+      const std::uint64_t bytes = spread[(bits[c / 64] >> (c % 64)) & 0xFF];
+      std::memcpy(out + c, &bytes, 8);
     }
+    for (; c < width; ++c) out[c] = (bits[c / 64] >> (c % 64)) & 1;
   }
 }
 void HostBackend::ReadRayDelta(std::int32_t* dst) {

@@ -181,7 +181,12 @@ constexpr double kAreaTolerance = 1e-9;
 }  // namespace
 
 InsidePolygonBuilder::InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon)
-    : width_(width), height_(height), simplifier_(max_vertices, epsilon) {
+    : width_(width),
+      height_(height),
+      simplifier_(max_vertices, epsilon),
+      block_sat_(std::size_t((width + kBlock - 1) / kBlock + 1) *
+                 ((height + kBlock - 1) / kBlock + 1)),
+      block_row_(std::size_t((width + kBlock - 1) / kBlock)) {
   ring_.reserve(std::size_t(BorderLabelCount(height, width)));
   kept_.reserve(std::size_t(std::max(max_vertices, 3)) + 1);
   scale_.reserve(std::size_t(std::max(max_vertices, 3)) + 1);
@@ -285,17 +290,26 @@ void InsidePolygonBuilder::EdgePull(const std::uint8_t* free, const Vec2& sensor
   const double y0 = std::min({sensor.y(), a.y(), b.y()});
   const double y1 = std::max({sensor.y(), a.y(), b.y()});
   const int r0 = std::max(0, int(std::floor(y0))), r1 = std::min(height_ - 1, int(std::floor(y1)));
-  for (int r = r0; r <= r1; ++r) {
-    // The triangle's x extent within the row's band [r, r + 1].
+  // Bands of rows, halved until they are one row, and dropped as soon as the blocks under the
+  // triangle's part in them are all free (thin triangles along free rays are dropped whole).
+  int bands[64][2];
+  int top = 0;
+  bands[top][0] = r0;
+  bands[top][1] = r1;
+  ++top;
+  while (top > 0) {
+    --top;
+    const int ra = bands[top][0], rb = bands[top][1];
+    // The triangle's x extent within the band [ra, rb + 1].
     double x0 = INFINITY, x1 = -INFINITY;
     for (int i = 0; i < 3; ++i) {
       const Vec2& p = tri[i];
       const Vec2& q = tri[(i + 1) % 3];
-      if (p.y() >= r && p.y() <= r + 1) {
+      if (p.y() >= ra && p.y() <= rb + 1) {
         x0 = std::min(x0, p.x());
         x1 = std::max(x1, p.x());
       }
-      for (const double y : {double(r), double(r + 1)}) {
+      for (const double y : {double(ra), double(rb + 1)}) {
         if ((p.y() - y) * (q.y() - y) < 0) {
           const double x = p.x() + (q.x() - p.x()) * (y - p.y()) / (q.y() - p.y());
           x0 = std::min(x0, x);
@@ -305,6 +319,17 @@ void InsidePolygonBuilder::EdgePull(const std::uint8_t* free, const Vec2& sensor
     }
     if (x0 > x1) continue;
     const int c0 = std::max(0, int(std::floor(x0))), c1 = std::min(width_ - 1, int(std::floor(x1)));
+    if (c0 > c1 || !BlocksNotFree(ra, rb, c0, c1)) continue;
+    if (ra < rb) {
+      const int mid = ra + (rb - ra) / 2;
+      bands[top][0] = mid + 1;
+      bands[top][1] = rb;
+      bands[top + 1][0] = ra;
+      bands[top + 1][1] = mid;
+      top += 2;
+      continue;
+    }
+    const int r = ra;
     const std::uint8_t* row = free + std::size_t(r) * width_;
     for (int c = c0; c <= c1; ++c) {
       // Skip free cells a machine word at a time.
@@ -357,6 +382,49 @@ void InsidePolygonBuilder::EdgePull(const std::uint8_t* free, const Vec2& sensor
   }
 }
 
+void InsidePolygonBuilder::CountBlocks(const std::uint8_t* free) {
+  const int bw = (width_ + kBlock - 1) / kBlock, bh = (height_ + kBlock - 1) / kBlock;
+  std::uint32_t* sat = block_sat_.data();
+  std::fill(sat, sat + bw + 1, 0u);
+  for (int br = 0; br < bh; ++br) {
+    std::fill(block_row_.begin(), block_row_.end(), std::uint8_t{0});
+    for (int r = br * kBlock; r < std::min(height_, (br + 1) * kBlock); ++r) {
+      const std::uint8_t* row = free + std::size_t(r) * width_;
+      for (int bc = 0; bc < bw; ++bc) {
+        const int c0 = bc * kBlock, c1 = std::min(width_, c0 + kBlock);
+        if (c1 - c0 == 8) {
+          std::uint64_t x;
+          std::memcpy(&x, row + c0, 8);
+          // A zero byte among the eight (the classic has-zero-byte test).
+          block_row_[bc] |= ((x - 0x0101010101010101ull) & ~x & 0x8080808080808080ull) != 0;
+        } else {
+          for (int c = c0; c < c1; ++c) block_row_[bc] |= row[c] == 0;
+        }
+      }
+    }
+    // Summed-area table of not-free blocks: sat[(br + 1) * (bw + 1) + bc + 1] counts the
+    // blocks in rows 0 .. br and columns 0 .. bc.
+    std::uint32_t* above = sat + std::size_t(br) * (bw + 1);
+    std::uint32_t* here = above + (bw + 1);
+    here[0] = 0;
+    std::uint32_t run = 0;
+    for (int bc = 0; bc < bw; ++bc) {
+      run += block_row_[bc];
+      here[bc + 1] = above[bc + 1] + run;
+    }
+  }
+}
+
+bool InsidePolygonBuilder::BlocksNotFree(int r0, int r1, int c0, int c1) const {
+  const int bw = (width_ + kBlock - 1) / kBlock;
+  const int br0 = r0 / kBlock, br1 = r1 / kBlock + 1, bc0 = c0 / kBlock, bc1 = c1 / kBlock + 1;
+  const std::uint32_t* sat = block_sat_.data();
+  const std::size_t stride = std::size_t(bw) + 1;
+  return sat[br1 * stride + bc1] - sat[br0 * stride + bc1] - sat[br1 * stride + bc0] +
+             sat[br0 * stride + bc0] !=
+         0;
+}
+
 double InsidePolygonBuilder::Build(const std::uint8_t* free, const Vec2& sensor,
                                    std::vector<Vec2>* polygon) {
   polygon->clear();
@@ -366,6 +434,7 @@ double InsidePolygonBuilder::Build(const std::uint8_t* free, const Vec2& sensor,
     polygon->assign(3, sensor);
     return 0.0;
   }
+  CountBlocks(free);
   // One ray per border cell, in label order (counter-clockwise); the corner cells, which two
   // labels share, once.
   const int labels = BorderLabelCount(height_, width_);

@@ -74,12 +74,21 @@ class InsidePolygonBuilder {
   // free: of moving both alike, only b, or only a, the one that keeps the most area.
   void EdgePull(const std::uint8_t* free, const Vec2& sensor, const Vec2& a, const Vec2& b,
                 double* scale_a, double* scale_b) const;
+  // The not-free blocks of kBlock x kBlock cells, as a summed-area table, for skipping free
+  // parts of a triangle in EdgePull().
+  void CountBlocks(const std::uint8_t* free);
+  // Whether any block meeting cells [r0, r1] x [c0, c1] holds a cell that is not free.
+  bool BlocksNotFree(int r0, int r1, int c0, int c1) const;
+
+  static constexpr int kBlock = 8;
 
   int width_, height_;
   PolygonSimplifier simplifier_;
   std::vector<Vec2> ring_;
   std::vector<int> kept_;
   std::vector<double> scale_;
+  std::vector<std::uint32_t> block_sat_;
+  std::vector<std::uint8_t> block_row_;
 };
 
 // Even-odd point-in-polygon test; a point on the boundary may count either way.
