@@ -48,6 +48,7 @@ Estimator::Estimator(const Config& config) : config_(config) {
         config_.map.width_cells, config_.map.height_cells, config_.polygon.max_vertices,
         config_.polygon.epsilon_m / config_.map.resolution_m);
     free_scan_.resize(std::size_t(config_.map.width_cells) * config_.map.height_cells);
+    if (backend_->HostLogOdds() == nullptr) log_odds_scan_.resize(free_scan_.size());
   }
   result_.polygon.reserve(config_.polygon.max_vertices);
   result_.polygon_cells.reserve(config_.polygon.max_vertices);
@@ -65,6 +66,34 @@ std::string Estimator::backend_name() const { return backend_->name(); }
 void Estimator::Reset() {
   aligner_->Reset();
   backend_->Clear();
+}
+
+// The opening removes free space narrower than the vehicle, and so the apex of the scans'
+// free wedge at the sensor, where the vehicle itself stands (on the first scans that is all
+// there is near it). For the conservative polygon the sensor's own cell is free (as it never
+// stops an in-sight ray), and so is every cell within the opening's radius of it that the
+// scans saw free more often than occupied (log-odds below 0).
+void Estimator::FreeWhereTheVehicleStands(const Vec2& sensor) {
+  const int width = config_.map.width_cells, height = config_.map.height_cells;
+  const int col = int(std::floor(sensor.x())), row = int(std::floor(sensor.y()));
+  if (col < 0 || row < 0 || col >= width || row >= height) return;
+  free_scan_[std::size_t(row) * width + col] = 1;
+  const int h = backend_->params().opening_radius;
+  const LogOdds* log_odds = nullptr;
+  for (int r = std::max(0, row - h); r <= std::min(height - 1, row + h); ++r) {
+    for (int c = std::max(0, col - h); c <= std::min(width - 1, col + h); ++c) {
+      const std::size_t i = std::size_t(r) * width + c;
+      if (free_scan_[i]) continue;
+      if (log_odds == nullptr) {  // only now: the map is read back from a device backend
+        log_odds = backend_->HostLogOdds();
+        if (log_odds == nullptr) {
+          backend_->ReadLogOdds(log_odds_scan_.data());
+          log_odds = log_odds_scan_.data();
+        }
+      }
+      if (log_odds[i] < 0) free_scan_[i] = 1;
+    }
+  }
 }
 
 const Result& Estimator::Process(const Scan& scan) {
@@ -229,6 +258,7 @@ const Result& Estimator::Process(const Scan& scan) {
   double error_cells = 0.0;
   if (inside_ != nullptr) {
     backend_->ReadFree(free_scan_.data());
+    FreeWhereTheVehicleStands(local);
     error_cells = inside_->Build(free_scan_.data(), local, &r.polygon_cells);
   } else {
     ring_.clear();

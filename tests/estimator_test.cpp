@@ -275,10 +275,17 @@ TEST_P(EstimatorTest, IntelLabInsidePolygonsCoverFreeCellsOnly) {
       x0 = std::min(x0, v.x()), y0 = std::min(y0, v.y());
       x1 = std::max(x1, v.x()), y1 = std::max(y1, v.y());
     }
+    // Free for the polygon: the free mask, the sensor's own cell, and the cells within the
+    // opening's radius (here 1) of it that have log-odds below 0 (where the vehicle stands).
+    const int sensor_col = int(std::floor(r.vehicle_cells.x()));
+    const int sensor_row = int(std::floor(r.vehicle_cells.y()));
     double area = 0.0;
     for (int row = std::max(0, int(y0)); row <= std::min(map.height - 1, int(y1)); ++row) {
       for (int col = std::max(0, int(x0)); col <= std::min(map.width - 1, int(x1)); ++col) {
-        if (map.free[row * map.width + col]) continue;
+        const int i = row * map.width + col;
+        if (map.free[i]) continue;
+        const bool near = std::abs(row - sensor_row) <= 1 && std::abs(col - sensor_col) <= 1;
+        if ((row == sensor_row && col == sensor_col) || (near && map.log_odds[i] < 0)) continue;
         area += sim::AreaInBox(p, col, row, col + 1, row + 1);
       }
     }

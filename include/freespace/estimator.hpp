@@ -148,6 +148,8 @@ class Estimator {
   std::unique_ptr<PolygonSimplifier> simplifier_;
   std::unique_ptr<InsidePolygonBuilder> inside_;  // polygon.shape inside only
   std::vector<std::uint8_t> free_scan_;           // the free mask for it, read back every scan
+  std::vector<LogOdds> log_odds_scan_;            // the map, read back when it is needed there
+  void FreeWhereTheVehicleStands(const Vec2& sensor);
   Result result_;
   std::uint64_t scans_ = 0;
   std::vector<Vec2> ring_;  // C_Edge cell centres, the unsimplified polygon
