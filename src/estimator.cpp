@@ -46,7 +46,7 @@ Estimator::Estimator(const Config& config) : config_(config) {
   if (config_.polygon.shape == PolygonShape::kInside) {
     inside_ = std::make_unique<InsidePolygonBuilder>(
         config_.map.width_cells, config_.map.height_cells, config_.polygon.max_vertices,
-        config_.polygon.epsilon_m / config_.map.resolution_m);
+        config_.polygon.epsilon_m / config_.map.resolution_m, config_.backend.threads);
     free_scan_.resize(std::size_t(config_.map.width_cells) * config_.map.height_cells);
     if (backend_->HostLogOdds() == nullptr) log_odds_scan_.resize(free_scan_.size());
   }

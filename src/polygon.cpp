@@ -4,6 +4,8 @@
 // kept (the paper's added stop). Segments live in a fixed array: no allocation per call.
 #include "polygon.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -180,16 +182,32 @@ constexpr double kAreaTolerance = 1e-9;
 
 }  // namespace
 
-InsidePolygonBuilder::InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon)
+InsidePolygonBuilder::InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon,
+                                           int threads)
     : width_(width),
       height_(height),
       simplifier_(max_vertices, epsilon),
       block_sat_(std::size_t((width + kBlock - 1) / kBlock + 1) *
                  ((height + kBlock - 1) / kBlock + 1)),
-      block_row_(std::size_t((width + kBlock - 1) / kBlock)) {
+      block_row_(std::size_t((width + kBlock - 1) / kBlock)),
+      arena_(threads > 0 ? threads : tbb::task_arena::automatic) {
   ring_.reserve(std::size_t(BorderLabelCount(height, width)));
   kept_.reserve(std::size_t(std::max(max_vertices, 3)) + 1);
   scale_.reserve(std::size_t(std::max(max_vertices, 3)) + 1);
+  // The rays' targets: the border cells' centres in label order; the corner cells, which two
+  // labels share, once.
+  const int labels = BorderLabelCount(height, width);
+  const CellIndex first = BorderCell(0, height, width);
+  CellIndex last{-1, -1};
+  for (int l = 0; l < labels; ++l) {
+    const CellIndex cell = BorderCell(l, height, width);
+    if ((cell.row == last.row && cell.col == last.col) ||
+        (l > 0 && cell.row == first.row && cell.col == first.col)) {
+      continue;
+    }
+    last = cell;
+    targets_.emplace_back(cell.col + 0.5, cell.row + 0.5);
+  }
 }
 
 double InsidePolygonBuilder::Trace(const std::uint8_t* free, const Vec2& sensor,
@@ -290,6 +308,46 @@ void InsidePolygonBuilder::EdgePull(const std::uint8_t* free, const Vec2& sensor
   const double y0 = std::min({sensor.y(), a.y(), b.y()});
   const double y1 = std::max({sensor.y(), a.y(), b.y()});
   const int r0 = std::max(0, int(std::floor(y0))), r1 = std::min(height_ - 1, int(std::floor(y1)));
+  // The not-free cells of row r, columns c0 .. c1, that overlap the triangle limit the ways out.
+  const auto scan_row = [&](int r, int c0, int c1) {
+    const std::uint8_t* row = free + std::size_t(r) * width_;
+    for (int c = c0; c <= c1; ++c) {
+      // Skip free cells a machine word at a time.
+      const void* hit = std::memchr(row + c, 0, std::size_t(c1 - c + 1));
+      if (hit == nullptr) break;
+      c = int(static_cast<const std::uint8_t*>(hit) - row);
+      // The cell's corners in (alpha, beta): p = sensor + alpha u + beta v.
+      Clip cell;
+      double least = INFINITY;
+      for (const Vec2& corner : {Vec2(c, r), Vec2(c + 1, r), Vec2(c + 1, r + 1), Vec2(c, r + 1)}) {
+        const Vec2 w = corner - sensor;
+        double* ab = cell.v[cell.n++];
+        ab[0] = Cross(w, v) / det;
+        ab[1] = Cross(u, w) / det;
+        least = std::min(least, ab[0] + ab[1]);
+      }
+      if (least >= 1.0) continue;  // wholly beyond the chord: no way out is limited by it
+      cell.Cut(0, 1, 0);           // alpha >= 0
+      cell.Cut(0, 0, 1);           // beta >= 0
+      // The overlap's area in cells^2 is det times its area in (alpha, beta).
+      if (cell.n < 3 || cell.Area() * det <= kAreaTolerance) continue;
+      for (int i = 0; i < cell.n; ++i) both = std::min(both, cell.v[i][0] + cell.v[i][1]);
+      Clip near_a = cell;    // alpha <= 1: beta / (1 - alpha) is constant along edges ending at
+      near_a.Cut(1, -1, 0);  // alpha = 1, so the least lies at a vertex with alpha < 1
+      for (int i = 0; i < near_a.n; ++i) {
+        if (near_a.v[i][0] < 1.0) {
+          only_b = std::min(only_b, near_a.v[i][1] / (1.0 - near_a.v[i][0]));
+        }
+      }
+      Clip near_b = cell;
+      near_b.Cut(1, 0, -1);
+      for (int i = 0; i < near_b.n; ++i) {
+        if (near_b.v[i][1] < 1.0) {
+          only_a = std::min(only_a, near_b.v[i][0] / (1.0 - near_b.v[i][1]));
+        }
+      }
+    }
+  };
   // Bands of rows, halved until they are one row, and dropped as soon as the blocks under the
   // triangle's part in them are all free (thin triangles along free rays are dropped whole).
   int bands[64][2];
@@ -329,44 +387,7 @@ void InsidePolygonBuilder::EdgePull(const std::uint8_t* free, const Vec2& sensor
       top += 2;
       continue;
     }
-    const int r = ra;
-    const std::uint8_t* row = free + std::size_t(r) * width_;
-    for (int c = c0; c <= c1; ++c) {
-      // Skip free cells a machine word at a time.
-      const void* hit = std::memchr(row + c, 0, std::size_t(c1 - c + 1));
-      if (hit == nullptr) break;
-      c = int(static_cast<const std::uint8_t*>(hit) - row);
-      // The cell's corners in (alpha, beta): p = sensor + alpha u + beta v.
-      Clip cell;
-      double least = INFINITY;
-      for (const Vec2& corner : {Vec2(c, r), Vec2(c + 1, r), Vec2(c + 1, r + 1), Vec2(c, r + 1)}) {
-        const Vec2 w = corner - sensor;
-        double* ab = cell.v[cell.n++];
-        ab[0] = Cross(w, v) / det;
-        ab[1] = Cross(u, w) / det;
-        least = std::min(least, ab[0] + ab[1]);
-      }
-      if (least >= 1.0) continue;  // wholly beyond the chord: no way out is limited by it
-      cell.Cut(0, 1, 0);           // alpha >= 0
-      cell.Cut(0, 0, 1);           // beta >= 0
-      // The overlap's area in cells^2 is det times its area in (alpha, beta).
-      if (cell.n < 3 || cell.Area() * det <= kAreaTolerance) continue;
-      for (int i = 0; i < cell.n; ++i) both = std::min(both, cell.v[i][0] + cell.v[i][1]);
-      Clip near_a = cell;    // alpha <= 1: beta / (1 - alpha) is constant along edges ending at
-      near_a.Cut(1, -1, 0);  // alpha = 1, so the least lies at a vertex with alpha < 1
-      for (int i = 0; i < near_a.n; ++i) {
-        if (near_a.v[i][0] < 1.0) {
-          only_b = std::min(only_b, near_a.v[i][1] / (1.0 - near_a.v[i][0]));
-        }
-      }
-      Clip near_b = cell;
-      near_b.Cut(1, 0, -1);
-      for (int i = 0; i < near_b.n; ++i) {
-        if (near_b.v[i][1] < 1.0) {
-          only_a = std::min(only_a, near_b.v[i][0] / (1.0 - near_b.v[i][1]));
-        }
-      }
-    }
+    scan_row(ra, c0, c1);
   }
   both = std::clamp(both, 0.0, 1.0);
   only_a = std::clamp(only_a, 0.0, 1.0);
@@ -435,21 +456,18 @@ double InsidePolygonBuilder::Build(const std::uint8_t* free, const Vec2& sensor,
     return 0.0;
   }
   CountBlocks(free);
-  // One ray per border cell, in label order (counter-clockwise); the corner cells, which two
-  // labels share, once.
-  const int labels = BorderLabelCount(height_, width_);
-  const CellIndex first = BorderCell(0, height_, width_);
-  CellIndex last{-1, -1};
-  for (int l = 0; l < labels; ++l) {
-    const CellIndex cell = BorderCell(l, height_, width_);
-    if ((cell.row == last.row && cell.col == last.col) ||
-        (l > 0 && cell.row == first.row && cell.col == first.col)) {
-      continue;
-    }
-    last = cell;
-    const Vec2 target(cell.col + 0.5, cell.row + 0.5);
-    ring_.push_back(sensor + Trace(free, sensor, target) * (target - sensor));
-  }
+  // One ray per border cell, in label order (counter-clockwise; targets_), in parallel.
+  const int rays = int(targets_.size());
+  ring_.resize(targets_.size());
+  arena_.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, rays, 64),
+                      [&](const tbb::blocked_range<int>& range) {
+                        for (int i = range.begin(); i != range.end(); ++i) {
+                          const Vec2& target = targets_[i];
+                          ring_[i] = sensor + Trace(free, sensor, target) * (target - sensor);
+                        }
+                      });
+  });
   // Neighbouring rays can pass a not-free cell between them (a ray through a gap in a wall
   // next to one stopped by the wall): pull the ring in first, so that the simplification
   // works on a ring that already covers free cells only and has no such spikes.

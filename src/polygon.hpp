@@ -6,6 +6,8 @@
 // free cells only.
 #pragma once
 
+#include <tbb/task_arena.h>
+
 #include <cstdint>
 #include <vector>
 
@@ -51,8 +53,9 @@ class PolygonSimplifier {
 // vertices. All memory is allocated in the constructor.
 class InsidePolygonBuilder {
  public:
-  // width, height: the map in cells; max_vertices: N (>= 3); epsilon: tolerance in cells.
-  InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon);
+  // width, height: the map in cells; max_vertices: N (>= 3); epsilon: tolerance in cells;
+  // threads: for the rays (0 = all cores).
+  InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon, int threads = 0);
 
   // `free`: width * height bytes, row-major, non-zero where free; `sensor`: the sensor in
   // cells. Writes the vertices (counter-clockwise) into `polygon`. When the sensor's cell is
@@ -89,6 +92,8 @@ class InsidePolygonBuilder {
   std::vector<double> scale_;
   std::vector<std::uint32_t> block_sat_;
   std::vector<std::uint8_t> block_row_;
+  std::vector<Vec2> targets_;  // border cell centres, one per ray
+  tbb::task_arena arena_;
 };
 
 // Even-odd point-in-polygon test; a point on the boundary may count either way.
