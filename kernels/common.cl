@@ -17,6 +17,12 @@
 // may pass a row between its work-items through global memory and a barrier. Extra rows from
 // rounding up to whole work-groups do nothing.
 //
+// The masks of stage 3 (and the free mask stage 4 reads) are bitsets instead: BIT_WORDS ulong
+// words per row, bit i of word w is column 64 w + i, rows BIT_WORDS words apart, no padding.
+// Kernels over them take global size (bit row items, rows): work-item (x, r) handles the words
+// [x * BIT_WORDS_PER_ITEM, (x + 1) * BIT_WORDS_PER_ITEM) of row r, 64 cells a word, so four
+// 16-cell vectors of the cell layout (a whole row on a CPU, one word on a GPU).
+//
 // Build options: WIDTH, HEIGHT, PAD_X, PAD_Y, STRIDE, VECTORS_PER_ITEM.
 
 // Index of map cell (row r, column c) in a padded buffer.
@@ -29,6 +35,17 @@ bool RowVectors(int* v0, int* v1) {
   *v0 = (int)get_global_id(0) * VECTORS_PER_ITEM;
   *v1 = min(*v0 + VECTORS_PER_ITEM, ROW_VECTORS);
   return *v0 < *v1;
+}
+
+// Bitset words per row, and per work-item.
+#define BIT_WORDS ((WIDTH + 63) / 64)
+#define BIT_WORDS_PER_ITEM ((VECTORS_PER_ITEM + 3) / 4)
+
+// The bitset words of row `r` this work-item handles: [*w0, *w1). False when it has none.
+bool RowWords(int* w0, int* w1) {
+  *w0 = (int)get_global_id(0) * BIT_WORDS_PER_ITEM;
+  *w1 = min(*w0 + BIT_WORDS_PER_ITEM, BIT_WORDS);
+  return *w0 < *w1;
 }
 
 // Lane i of the vector starting at column c0 is inside the map: -1 (all bits) inside, else 0.

@@ -79,6 +79,7 @@ class OpenClBackend final : public Backend {
   enum Stage { kRasterStage, kFuseStage, kClassifyStage, kInSightStage, kStageCount };
 
   std::size_t cells() const { return std::size_t(params_.width) * params_.height; }
+  int BitWords() const { return (params_.width + 63) / 64; }  // bitset words per row
   opencl::Kernel MakeKernel(const char* name) const;
   std::size_t LocalSize(cl_kernel kernel, std::size_t preferred) const;
   void Launch(cl_kernel kernel, cl_uint dims, const std::size_t* global, const std::size_t* local,
@@ -94,8 +95,9 @@ class OpenClBackend final : public Backend {
   // (width * height elements, row-major).
   void ReadCells(cl_mem buffer, std::size_t element, void* dst);
   void WriteCells(cl_mem buffer, std::size_t element, const void* src);
-  // Global and local sizes of a kernel over `rows` rows of 16-cell vectors.
+  // Global and local sizes of a kernel over `rows` rows of 16-cell vectors, or of bitset words.
   void RowsLaunch(cl_kernel kernel, int rows, cl_event* event);
+  void BitsLaunch(cl_kernel kernel, int rows, cl_event* event);
   void SetStage(Stage stage, opencl::Event begin, opencl::Event end);
   // Enqueues the deferred shift and row pass on their own.
   void Flush();
@@ -122,18 +124,16 @@ class OpenClBackend final : public Backend {
   opencl::Mem update_;            // stage 1 -> stage 2, uchar per cell
   opencl::Mem toggles_;           // stage 1 bit planes, one bit per cell, rows of whole words
   opencl::Mem occupied_;          //
-  opencl::Mem pass_a_;            // stage 3 intermediates
-  opencl::Mem pass_b_;            //
-  opencl::Mem pass_c_;            //
-  opencl::Mem free_;              // stage 3 output, stage 4 input
-  opencl::Mem label_;             // stage 4: T, smallest label per stop cell (INT_MAX = none)
-  opencl::Mem stop_;              // stage 4: stop cell per label
-  opencl::Mem edges_;             // stage 4 output: count, then C_Edge cells
+  opencl::Mem bits_a_;            // stage 3 intermediates, bitsets (common.cl)
+  opencl::Mem bits_b_;            //
+  opencl::Mem bits_c_;            //
+  opencl::Mem free_;              // stage 3 output, stage 4 input: bitset
+  opencl::Mem stop_;              // stage 4 output: stop cell per label
   opencl::Mem delta_;             // conventional model: per-cell sum of one scan's rays
   opencl::Mem job_;               // the raster or ray job (rasterize.cl, rays.cl)
   std::size_t job_capacity_ = 0;  // ints
 
-  opencl::Kernel rasterize_edges_, insight_cast_, insight_compact_, rays_cast_;
+  opencl::Kernel rasterize_edges_, insight_cast_, rays_cast_;
   opencl::Kernel erode_dilate_, dilate_cols_;
   std::array<opencl::Kernel, 2> fuse_, rays_fuse_, hysteresis_, shift_;  // per map buffer
   // The row pass of stage 1 (rasterize_rows, or rasterize_bands on a CPU): the mask only, and
@@ -154,13 +154,16 @@ class OpenClBackend final : public Backend {
   // Work sizes, fixed at construction.
   std::size_t row_items_ = 1;                     // work-items per row of kernels over cells
   std::size_t rows_local_[2] = {1, 1};            // their work-group
+  std::size_t bit_items_ = 1;                     // work-items per row of bitset kernels
+  std::size_t bits_local_[2] = {1, 1};            // their work-group
   std::size_t raster_local_[2] = {1, 1};          // rasterize_rows
   std::size_t edge_local_ = 1;                    // rasterize_edges, rays_cast
   std::size_t cast_local_ = 1, cast_global_ = 1;  // insight_cast
-  std::size_t compact_size_ = 1;                  // insight_compact: one work-group
 
   std::vector<std::int32_t> job_host_;    // staging of the job upload
-  std::vector<std::int32_t> edges_host_;  // C_Edge as read back
+  std::vector<std::int32_t> stop_host_;   // stage 4: stop cells as read back
+  std::vector<std::int32_t> label_host_;  // stage 4: T, smallest label per cell (INT32_MAX)
+  std::vector<std::uint64_t> free_host_;  // the free mask for ReadFree() / WriteFree()
   std::vector<std::int32_t> row_counts_;  // counting sort of the occupied cells by row
   opencl::Event upload_done_;             // the last upload from job_host_
 
