@@ -27,73 +27,32 @@
 
 ulong ClassifyValidBits(int w) { return w == BIT_WORDS - 1 ? CLASSIFY_LAST_WORD_BITS : ~0UL; }
 
-// The 64 lanes of four compare results (-1 true, 0 false; cells c0 .. c0 + 15, c0 + 16 .. and so
-// on) as the bits of one word, lane i at bit i.
-ulong ClassifyPack(short16 q0, short16 q1, short16 q2, short16 q3) {
-#ifdef __ENDIAN_LITTLE__
-  // Bytes of 0 / 1, lane i of a ulong at byte i. The multiply gathers a ulong's eight bytes
-  // into its top byte, byte i at bit 56 + i: the partial products are distinct powers of two,
-  // so no carry reaches the top byte.
-  ulong8 x = (ulong8)(as_ulong2(convert_char16(q0) & (char16)(1)),
-                      as_ulong2(convert_char16(q1) & (char16)(1)),
-                      as_ulong2(convert_char16(q2) & (char16)(1)),
-                      as_ulong2(convert_char16(q3) & (char16)(1)));
-  x = ((x * (ulong8)(0x0102040810204080UL)) >> (ulong8)(56)) << (ulong8)(0, 8, 16, 24, 32, 40, 48,
-                                                                          56);
-  const ulong4 y = x.lo | x.hi;
-  const ulong2 z = y.lo | y.hi;
-  return z.x | z.y;
-#else
-  // Any byte order: one weight per lane, OR-reduced.
-  const ushort16 weight = (ushort16)(1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096,
-                                     8192, 16384, 32768);
-  const ushort16 q[4] = {as_ushort16(q0) & weight, as_ushort16(q1) & weight,
-                         as_ushort16(q2) & weight, as_ushort16(q3) & weight};
-  ulong bits = 0;
-  for (int j = 0; j < 4; ++j) {
-    const ushort8 a = q[j].lo | q[j].hi;
-    const ushort4 b = a.lo | a.hi;
-    const ushort2 c = b.lo | b.hi;
-    bits |= (ulong)(c.x | c.y) << (16 * j);
-  }
-  return bits;
-#endif
+// Word w of a level bitset's row r (common.cl: two uint halves), 0 outside the map.
+ulong ClassifyLevelWord(__global const uint* level, int r, int w) {
+  if (r < 0 || r >= HEIGHT || w < 0 || w >= BIT_WORDS) return 0;
+  const int k = r * LEVEL_WORDS + 2 * w;
+  return (ulong)level[k] | ((ulong)level[k + 1] << 32);
 }
 
-// 1 when cell (r, c) or the cell above or below it has l <= T_LOW (in-map cells only), else 0,
-// and 0 for a column outside the map.
-ulong ClassifyStrongColumn(__global const short* map, int r, int c) {
-  if (c < 0 || c >= WIDTH) return 0;
-  bool strong = false;
-  for (int rr = max(r - 1, 0); rr <= min(r + 1, HEIGHT - 1); ++rr) {
-    strong |= map[CELL(rr, c)] <= T_LOW;
-  }
-  return strong ? 1 : 0;
+// Strong bits of word w of rows r - 1 .. r + 1 OR'd together.
+ulong ClassifyNear(__global const uint* strong, int r, int w) {
+  return ClassifyLevelWord(strong, r - 1, w) | ClassifyLevelWord(strong, r, w) |
+         ClassifyLevelWord(strong, r + 1, w);
 }
 
-// map -> free0 on words [w0, w1) of row r. A word's 64 cells are 64-aligned in the padded map
-// (common.cl), so they load as four aligned short16; the padding past the width is masked off.
-void ClassifyHysteresis(__global const short* map, __global ulong* out, int r, int w0, int w1) {
-  const bool below = r > 0, above = r + 1 < HEIGHT;
+// Level bitsets -> free0 on words [w0, w1) of row r. Walks the words left to right carrying the
+// strong columns of the words left and right of the current one; the 8-neighbourhood is the
+// current column OR'd with its neighbours one bit left and right.
+void ClassifyHysteresis(__global const uint* strong, __global const uint* weak,
+                        __global ulong* out, int r, int w0, int w1) {
+  ulong left = ClassifyNear(strong, r, w0 - 1), here = ClassifyNear(strong, r, w0);
   for (int w = w0; w < w1; ++w) {
-    __global const short* m = map + CELL(r, 64 * w);
-    short16 strong[4], weak[4], near[4];
-    for (int j = 0; j < 4; ++j) {
-      const short16 l = *(__global const short16*)(m + 16 * j);
-      strong[j] = l <= (short16)(T_LOW);
-      weak[j] = l <= (short16)(T_HIGH);
-      near[j] = strong[j];
-      if (below) near[j] |= *(__global const short16*)(m - STRIDE + 16 * j) <= (short16)(T_LOW);
-      if (above) near[j] |= *(__global const short16*)(m + STRIDE + 16 * j) <= (short16)(T_LOW);
-    }
-    const ulong valid = ClassifyValidBits(w);
-    const ulong s = ClassifyPack(strong[0], strong[1], strong[2], strong[3]) & valid;
-    const ulong k = ClassifyPack(weak[0], weak[1], weak[2], weak[3]) & valid;
-    const ulong n = ClassifyPack(near[0], near[1], near[2], near[3]) & valid;
-    // The 8-neighbourhood: the column itself and one column left and right, across words.
-    const ulong spread = n | (n << 1) | (n >> 1) | ClassifyStrongColumn(map, r, 64 * w - 1) |
-                         (ClassifyStrongColumn(map, r, 64 * w + 64) << 63);
-    out[r * BIT_WORDS + w] = s | (k & spread);
+    const ulong right = ClassifyNear(strong, r, w + 1);
+    const ulong spread = here | (here << 1) | (left >> 63) | (here >> 1) | (right << 63);
+    out[r * BIT_WORDS + w] =
+        ClassifyLevelWord(strong, r, w) | (ClassifyLevelWord(weak, r, w) & spread);
+    left = here;
+    here = right;
   }
 }
 
@@ -128,12 +87,27 @@ ulong ClassifyShifted(__global const ulong* row, int w, int d) {
 CLASSIFY_ROW_WINDOW(ClassifyErodeRow, &)
 CLASSIFY_ROW_WINDOW(ClassifyDilateRow, |)
 
-__kernel void classify_hysteresis_erode_rows(__global const short* map, __global ulong* a,
+// The level bitsets of the whole map, when the row pass of stage 1 did not write them (the map
+// was shifted, fused or written some other way since).
+__kernel void classify_levels(__global const short* map, __global uint* strong,
+                              __global uint* weak) {
+  const int r = get_global_id(1);
+  int w0, w1;
+  if (r >= HEIGHT || !RowWords(&w0, &w1)) return;
+  for (int c0 = 64 * w0; c0 < 64 * w1; c0 += 32) {
+    __global const short* m = map + CELL(r, c0);
+    StoreLevels(*(__global const short16*)m, *(__global const short16*)(m + 16), r, c0, strong,
+                weak);
+  }
+}
+
+__kernel void classify_hysteresis_erode_rows(__global const uint* strong,
+                                             __global const uint* weak, __global ulong* a,
                                              __global ulong* b) {
   const int r = get_global_id(1);
   int w0, w1;
   const bool active = r < HEIGHT && RowWords(&w0, &w1);
-  if (active) ClassifyHysteresis(map, a, r, w0, w1);
+  if (active) ClassifyHysteresis(strong, weak, a, r, w0, w1);
   barrier(CLK_GLOBAL_MEM_FENCE);
   if (!active) return;
   for (int w = w0; w < w1; ++w) b[r * BIT_WORDS + w] = ClassifyErodeRow(a + r * BIT_WORDS, w);
@@ -145,14 +119,17 @@ __kernel void classify_erode_cols_dilate_rows(__global const ulong* b, __global 
   int w0, w1;
   const bool active = r < HEIGHT && RowWords(&w0, &w1);
   if (active) {
-    // A column window that leaves the map meets a cell that is not free.
-    const bool inside = r >= OPENING_RADIUS && r + OPENING_RADIUS < HEIGHT;
-    for (int w = w0; w < w1; ++w) {
-      ulong x = inside ? ~0UL : 0UL;
-      if (inside) {
-        for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) x &= b[(r + d) * BIT_WORDS + w];
+    // A column window that leaves the map meets a cell that is not free. Rows outer, words
+    // inner: a row's words are contiguous.
+    __global ulong* out = a + r * BIT_WORDS;
+    if (r >= OPENING_RADIUS && r + OPENING_RADIUS < HEIGHT) {
+      __global const ulong* in = b + (r - OPENING_RADIUS) * BIT_WORDS;
+      for (int w = w0; w < w1; ++w) out[w] = in[w];
+      for (int d = 1; d <= 2 * OPENING_RADIUS; ++d) {
+        for (int w = w0; w < w1; ++w) out[w] &= in[d * BIT_WORDS + w];
       }
-      a[r * BIT_WORDS + w] = x;
+    } else {
+      for (int w = w0; w < w1; ++w) out[w] = 0;
     }
   }
   barrier(CLK_GLOBAL_MEM_FENCE);
@@ -168,9 +145,9 @@ __kernel void classify_dilate_cols(__global const ulong* c, __global ulong* free
   int w0, w1;
   if (r >= HEIGHT || !RowWords(&w0, &w1)) return;
   const int d0 = max(r - OPENING_RADIUS, 0), d1 = min(r + OPENING_RADIUS, HEIGHT - 1);
-  for (int w = w0; w < w1; ++w) {
-    ulong x = 0;
-    for (int d = d0; d <= d1; ++d) x |= c[d * BIT_WORDS + w];
-    free[r * BIT_WORDS + w] = x;
+  __global ulong* out = free + r * BIT_WORDS;
+  for (int w = w0; w < w1; ++w) out[w] = c[d0 * BIT_WORDS + w];
+  for (int d = d0 + 1; d <= d1; ++d) {
+    for (int w = w0; w < w1; ++w) out[w] |= c[d * BIT_WORDS + w];
   }
 }

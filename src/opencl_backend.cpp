@@ -134,12 +134,13 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   row_mask_ = MakeKernel(row_pass);
   insight_cast_ = MakeKernel("insight_cast");
   rays_cast_ = MakeKernel("rays_cast");
+  hysteresis_ = MakeKernel("classify_hysteresis_erode_rows");
   erode_dilate_ = MakeKernel("classify_erode_cols_dilate_rows");
   dilate_cols_ = MakeKernel("classify_dilate_cols");
   for (int k = 0; k < 2; ++k) {
     fuse_[k] = MakeKernel("fuse");
     rays_fuse_[k] = MakeKernel("rays_fuse");
-    hysteresis_[k] = MakeKernel("classify_hysteresis_erode_rows");
+    levels_[k] = MakeKernel("classify_levels");
     shift_[k] = MakeKernel("shift_map");
     row_fuse_[k][0] = MakeKernel(row_pass);
     row_fuse_[k][1] = MakeKernel(row_pass);
@@ -160,6 +161,9 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   update_ = buffer(padded);
   toggles_ = buffer(bit_words * 4);
   occupied_ = buffer(bit_words * 4);
+  const std::size_t level_bytes = std::size_t(2 * BitWords()) * height * 4;
+  strong_ = buffer(level_bytes);
+  weak_ = buffer(level_bytes);
   bits_a_ = buffer(mask_bytes);
   bits_b_ = buffer(mask_bytes);
   bits_c_ = buffer(mask_bytes);
@@ -178,6 +182,8 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   Fill(update_.get(), padded);
   Fill(toggles_.get(), bit_words * 4);
   Fill(occupied_.get(), bit_words * 4);
+  Fill(strong_.get(), level_bytes);
+  Fill(weak_.get(), level_bytes);
   Fill(bits_a_.get(), mask_bytes);
   Fill(bits_b_.get(), mask_bytes);
   Fill(bits_c_.get(), mask_bytes);
@@ -202,9 +208,15 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
       SetArg(kernels[i], 3, update_.get());
       SetArg(kernels[i], 4, src[i]);
       SetArg(kernels[i], 5, dst[i]);
+      SetArg(kernels[i], bands_ ? 11 : 10, strong_.get());
+      SetArg(kernels[i], bands_ ? 12 : 11, weak_.get());
     }
   }
   SetArg(rays_cast_.get(), 1, delta_.get());
+  SetArg(hysteresis_.get(), 0, strong_.get());
+  SetArg(hysteresis_.get(), 1, weak_.get());
+  SetArg(hysteresis_.get(), 2, bits_a_.get());
+  SetArg(hysteresis_.get(), 3, bits_b_.get());
   SetArg(erode_dilate_.get(), 0, bits_b_.get());
   SetArg(erode_dilate_.get(), 1, bits_a_.get());
   SetArg(erode_dilate_.get(), 2, bits_c_.get());
@@ -217,9 +229,9 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     SetArg(fuse_[k].get(), 1, update_.get());
     SetArg(rays_fuse_[k].get(), 0, map_[k].get());
     SetArg(rays_fuse_[k].get(), 1, delta_.get());
-    SetArg(hysteresis_[k].get(), 0, map_[k].get());
-    SetArg(hysteresis_[k].get(), 1, bits_a_.get());
-    SetArg(hysteresis_[k].get(), 2, bits_b_.get());
+    SetArg(levels_[k].get(), 0, map_[k].get());
+    SetArg(levels_[k].get(), 1, strong_.get());
+    SetArg(levels_[k].get(), 2, weak_.get());
     SetArg(shift_[k].get(), 0, map_[k].get());
     SetArg(shift_[k].get(), 1, map_[1 - k].get());
   }
@@ -227,7 +239,7 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   // Work sizes. Global sizes are rounded up to whole work-groups; the kernels skip the extra
   // work-items, so no size has to divide the map.
   std::size_t most = max_group;
-  for (const cl_kernel k : {erode_dilate_.get(), dilate_cols_.get(), hysteresis_[0].get(),
+  for (const cl_kernel k : {erode_dilate_.get(), dilate_cols_.get(), hysteresis_.get(),
                             shift_[0].get(), fuse_[0].get(), rays_fuse_[0].get()}) {
     most = std::min(most, LocalSize(k, max_group));
   }
@@ -433,6 +445,7 @@ void OpenClBackend::Fuse(int row_begin, int row_end) {
     if (shift_pending_) {
       RowPass(row_fuse_[current_][1].get(), pending_dx_, pending_dy_, 0, params_.height,
               event.out());
+      levels_valid_ = true;  // it wrote every row
     } else {
       RowPass(row_fuse_[current_][0].get(), 0, 0, r0, r1, event.out());
     }
@@ -445,6 +458,7 @@ void OpenClBackend::Fuse(int row_begin, int row_end) {
   Flush();
   if (r0 >= r1) return;
   const cl_kernel kernel = fuse_[current_].get();
+  levels_valid_ = false;
   SetArg(kernel, 2, cl_int(r0));
   SetArg(kernel, 3, cl_int(r1));
   opencl::Event event;
@@ -474,6 +488,7 @@ void OpenClBackend::FuseRays(int row_begin, int row_end) {
   const int r0 = std::max(row_begin, 0), r1 = std::min(row_end, params_.height);
   if (r0 >= r1) return;
   const cl_kernel kernel = rays_fuse_[current_].get();
+  levels_valid_ = false;
   SetArg(kernel, 2, cl_int(r0));
   SetArg(kernel, 3, cl_int(r1));
   opencl::Event event;
@@ -486,7 +501,13 @@ void OpenClBackend::Classify() {
   Flush();
   opencl::Event begin, end;
   const int height = params_.height;
-  BitsLaunch(hysteresis_[current_].get(), height, begin.out());
+  if (!levels_valid_) {
+    BitsLaunch(levels_[current_].get(), height, begin.out());
+    BitsLaunch(hysteresis_.get(), height, nullptr);
+    levels_valid_ = true;
+  } else {
+    BitsLaunch(hysteresis_.get(), height, begin.out());
+  }
   BitsLaunch(erode_dilate_.get(), height, nullptr);
   BitsLaunch(dilate_cols_.get(), height, end.out());
   SetStage(kClassifyStage, std::move(begin), std::move(end));
@@ -522,6 +543,7 @@ void OpenClBackend::Shift(int dx, int dy) {
   Flush();
   if (dx == 0 && dy == 0) return;
   if (std::abs(dx) >= params_.width || std::abs(dy) >= params_.height) {
+    levels_valid_ = false;
     Fill(map_[current_].get(), layout_.cells * sizeof(LogOdds));
     return;
   }
@@ -540,6 +562,7 @@ void OpenClBackend::FlushShift() {
   SetArg(kernel, 3, cl_int(pending_dy_));
   RowsLaunch(kernel, params_.height, nullptr);
   current_ = 1 - current_;
+  levels_valid_ = false;
 }
 
 void OpenClBackend::Flush() {
@@ -549,6 +572,7 @@ void OpenClBackend::Flush() {
 
 void OpenClBackend::Clear() {
   Flush();
+  levels_valid_ = false;
   Fill(map_[current_].get(), layout_.cells * sizeof(LogOdds));
   Fill(free_.get(), free_host_.size() * 8);
 }
@@ -607,6 +631,7 @@ void OpenClBackend::ReadLogOdds(LogOdds* dst) {
 }
 void OpenClBackend::WriteLogOdds(const LogOdds* src) {
   Flush();
+  levels_valid_ = false;
   WriteCells(map_[current_].get(), sizeof(LogOdds), src);
 }
 void OpenClBackend::ReadUpdateMask(std::uint8_t* dst) { ReadCells(update_.get(), 1, dst); }
