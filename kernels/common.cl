@@ -2,12 +2,12 @@
 // (rasterize.cl, fuse.cl, classify.cl, insight.cl, shift.cl, rays.cl), built once per map size
 // and parameter set; see src/opencl_backend.cpp for the build options.
 //
-// Every per-cell buffer (map, update mask, free mask, opening intermediates, ray deltas) uses one
-// padded layout: PAD_Y zero rows above and below the map, PAD_X zero columns left of it and at
-// least max(OPENING_RADIUS, 1) plus the rounding to 16 right of it, rows STRIDE cells apart.
-// PAD_X and STRIDE are multiples of 64, so a row's cells start 64-aligned and the kernels work
-// on 16 (or 64) cells at a time with aligned vector stores (lanes past the map's width are
-// written 0), and neighbour loads (+-1 cell, +-OPENING_RADIUS cells) never leave the buffer. The
+// Every per-cell buffer (map, update mask, ray deltas) uses one padded layout: PAD_Y zero rows
+// above and below the map, PAD_X zero columns left of it and at least max(OPENING_RADIUS, 1)
+// plus the rounding to 16 right of it, rows STRIDE cells apart. PAD_X and STRIDE are multiples
+// of 64, so a row's cells start 64-aligned and the kernels work on 16 (or 32, or 64) cells at a
+// time with aligned vector loads and stores (lanes past the map's width are written 0), and
+// shifted loads never leave the buffer. The
 // padding is zero on every buffer at all times: no kernel writes it and the host copies only the
 // map's cells in and out (rectangular copies).
 //
@@ -23,7 +23,7 @@
 // [x * BIT_WORDS_PER_ITEM, (x + 1) * BIT_WORDS_PER_ITEM) of row r, 64 cells a word, so four
 // 16-cell vectors of the cell layout (a whole row on a CPU, one word on a GPU).
 //
-// Build options: WIDTH, HEIGHT, PAD_X, PAD_Y, STRIDE, VECTORS_PER_ITEM.
+// Build options: WIDTH, HEIGHT, PAD_X, PAD_Y, STRIDE, VECTORS_PER_ITEM, T_LOW, T_HIGH.
 
 // Index of map cell (row r, column c) in a padded buffer.
 #define CELL(r, c) (((r) + PAD_Y) * STRIDE + PAD_X + (c))

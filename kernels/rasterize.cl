@@ -11,7 +11,8 @@
 // for the next scan; bits make the prefix XOR a few word operations and let edges meet in any
 // order (XOR commutes). The row pass can also fuse the mask into the map (kernel stage 2,
 // fuse.cl's arithmetic) and apply a pending map shift (shift.cl) on the way, so that a scan
-// reads and writes each row once.
+// reads and writes each row once; every map cell it writes also goes into the level bitsets
+// that stage 3 starts from (common.cl, StoreLevels), while the values are in registers.
 //
 // Two shapes, both exact:
 //   elsewhere than on a CPU: rasterize_edges, one work-item per edge and per echo with atomics,
@@ -21,7 +22,7 @@
 //
 // Build options: FIXED_BITS, UPDATE_NONE, UPDATE_FREE, UPDATE_OCCUPIED, L_FREE, L_OCCUPIED,
 // L_MIN, L_MAX, RASTER_GROUP (a power of two up to 256), RASTER_SERIAL (0 or 1), and those of
-// common.cl.
+// common.cl. Arguments after those of the row pass: the level bitsets (strong, weak).
 //
 // The job buffer, written by the host each scan: a header of 8 ints, job[0] vertex count n,
 // job[1] count m of occupied cells on the rasterized rows, job[2] first row r0, job[3] end row

@@ -1,6 +1,7 @@
 // The OpenCL backend: every kernel stage as the kernels of kernels/*.cl, run on the device the
 // config (or the environment) chooses. The map and every per-scan buffer stay resident on the
-// device between scans; a scan uploads its raster (or ray) job and reads back only C_Edge.
+// device between scans; a scan uploads its raster (or ray) job and reads back only the stop
+// cells of the border rays, from which the host builds C_Edge.
 // Stages are enqueued without waiting; InSight() waits for its result, Finish() for everything.
 // Bit-identical to the host backend (host/), which is its oracle in the tests.
 #pragma once
@@ -54,9 +55,10 @@ class OpenClBackend final : public Backend {
   // the end of its last. rasterize_us: the job upload and rasterize_edges (GPU shape; the CPU
   // shape does the edges in the row pass), plus the row pass when it ran on its own; fuse_us:
   // the row pass of stage 1 with the fusion (and a deferred map shift) folded in, or fuse.
-  // Conventional model: ray upload + rays_cast, and rays_fuse. classify_us: the three classify
-  // kernels. insight_us: the insight kernels and reading C_Edge back. Each measurement is
-  // reported once; stages that did not run since the last call keep the caller's values.
+  // Conventional model: ray upload + rays_cast, and rays_fuse. classify_us: the classify
+  // kernels (classify_levels included when it ran). insight_us: insight_cast and reading the
+  // stop cells back. Each measurement is reported once; stages that did not run since the last
+  // call keep the caller's values.
   bool KernelTimes(StageTimes* times) const override;
 
   // The padded cell layout of the device buffers (kernels/common.cl): PAD_Y zero rows above
