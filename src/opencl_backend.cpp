@@ -1,5 +1,5 @@
 // OpenClBackend: buffers, kernels and work sizes set up once; per scan, only enqueues (plus the
-// job upload and the C_Edge read-back). Kernel arguments that are buffers are set at
+// job upload and the stop-cell read-back). Kernel arguments that are buffers are set at
 // construction (and again only when the job buffer grows); per call only scalars change.
 #include "opencl_backend.hpp"
 
