@@ -4,167 +4,150 @@
 //
 // free0 = l <= T_LOW, or l <= T_HIGH with an 8-neighbour l <= T_LOW (neighbours inside the
 // map only). The opening is separable: erosion along rows, then columns, then dilation along
-// rows, then columns, over padded masks (common.cl). Cells outside the map are not free, and
-// the zero padding says exactly that: an erosion window that leaves the map meets a 0, a
-// dilation window gains nothing from it. PAD_X and PAD_Y are at least OPENING_RADIUS.
+// rows, then columns. Cells outside the map are not free: an erosion window that leaves the map
+// meets a 0, a dilation window gains nothing from it.
+//
+// The masks are bitsets (common.cl: BIT_WORDS ulong words per row, bit i of word w is column
+// 64 w + i, no padding), as on the host: a row pass is a few shifts and ANDs or ORs per word, a
+// column pass one AND or OR per word and row, and the free mask the in-sight stage reads is
+// 64 times smaller than the map. Bits past the map's width are 0 in every mask.
 //
 // Three kernels, because a column pass needs other rows' results of the pass before it:
 //   classify_hysteresis_erode_rows   map -> free0 (a) -> row erosion (b)
 //   classify_erode_cols_dilate_rows  b -> column erosion (a) -> row dilation (c)
 //   classify_dilate_cols             c -> column dilation (free mask)
-// Inside a kernel the second pass reads only its own row, which the work-group wrote before
-// the barrier (the host keeps each row's work-items in one work-group).
-//
-// Every pass writes 0 to the lanes past the map's width, so the padding stays zero; the
-// erosions and the column dilation get that for free (their window includes the lane's own,
-// zero, cell or column), the row dilation masks it.
+// Inside a kernel the second pass reads other words of its own row, which the work-group wrote
+// before the barrier (the host keeps each row's work-items in one work-group).
 //
 // Build options: T_LOW, T_HIGH, OPENING_RADIUS (and those of common.cl). Global size
-// (row items, HEIGHT rounded up) for every kernel.
+// (bit row items, HEIGHT rounded up) for every kernel.
 
-// Vector v (16 cells) of row r: -1 where an in-map cell of rows r - 1 .. r + 1 has l <= T_LOW,
-// 0 elsewhere, including lanes past the width and vectors outside the row.
-short16 ClassifyStrongColumn(__global const short* map, int r, int v) {
-  if (v < 0 || v >= ROW_VECTORS) return (short16)(0);
-  short16 strong = (short16)(0);
-  for (int rr = max(r - 1, 0); rr <= min(r + 1, HEIGHT - 1); ++rr) {
-    strong |= *(__global const short16*)(map + CELL(rr, 16 * v)) <= (short16)(T_LOW);
-  }
-  return strong & convert_short16(InsideLanes(16 * v));
+// Bits of the last word of a row that lie inside the map.
+#define CLASSIFY_LAST_WORD_BITS ((WIDTH % 64) ? (~0UL >> (64 - WIDTH % 64)) : ~0UL)
+
+ulong ClassifyValidBits(int w) { return w == BIT_WORDS - 1 ? CLASSIFY_LAST_WORD_BITS : ~0UL; }
+
+// Word w of a level bitset's row r (common.cl: two uint halves), 0 outside the map.
+ulong ClassifyLevelWord(__global const uint* level, int r, int w) {
+  if (r < 0 || r >= HEIGHT || w < 0 || w >= BIT_WORDS) return 0;
+  const int k = r * LEVEL_WORDS + 2 * w;
+  return (ulong)level[k] | ((ulong)level[k + 1] << 32);
 }
 
-// map -> padded free0 on vectors [v0, v1) of row r. Walks the vectors left to right carrying
-// the strong columns of the vectors left and right of the current one; the 8-neighbourhood is
-// the current column OR'd with its neighbours one lane left and right.
-void ClassifyHysteresis(__global const short* map, __global uchar* out, int r, int v0, int v1) {
-  short16 left = ClassifyStrongColumn(map, r, v0 - 1);
-  short16 here = ClassifyStrongColumn(map, r, v0);
-  for (int v = v0; v < v1; ++v) {
-    const short16 right = ClassifyStrongColumn(map, r, v + 1);
-    // Constant swizzles, not shuffle2(): they compile to one permute on every device.
-    const short16 near = here | (short16)(left.sf, here.s0123, here.s4567, here.s89ab, here.scde) |
-                         (short16)(here.s123, here.s4567, here.s89ab, here.scdef, right.s0);
-    const int k = CELL(r, 16 * v);
-    const short16 m = *(__global const short16*)(map + k);
-    const short16 strong = m <= (short16)(T_LOW), weak = m <= (short16)(T_HIGH);
-    const short16 free0 = (strong | (weak & near)) & convert_short16(InsideLanes(16 * v));
-    *(__global uchar16*)(out + k) = convert_uchar16(free0 & (short16)(1));
+// Strong bits of word w of rows r - 1 .. r + 1 OR'd together.
+ulong ClassifyNear(__global const uint* strong, int r, int w) {
+  return ClassifyLevelWord(strong, r - 1, w) | ClassifyLevelWord(strong, r, w) |
+         ClassifyLevelWord(strong, r + 1, w);
+}
+
+// Level bitsets -> free0 on words [w0, w1) of row r. Walks the words left to right carrying the
+// strong columns of the words left and right of the current one; the 8-neighbourhood is the
+// current column OR'd with its neighbours one bit left and right.
+void ClassifyHysteresis(__global const uint* strong, __global const uint* weak,
+                        __global ulong* out, int r, int w0, int w1) {
+  ulong left = ClassifyNear(strong, r, w0 - 1), here = ClassifyNear(strong, r, w0);
+  for (int w = w0; w < w1; ++w) {
+    const ulong right = ClassifyNear(strong, r, w + 1);
+    const ulong spread = here | (here << 1) | (left >> 63) | (here >> 1) | (right << 63);
+    out[r * BIT_WORDS + w] =
+        ClassifyLevelWord(strong, r, w) | (ClassifyLevelWord(weak, r, w) & spread);
     left = here;
     here = right;
   }
 }
 
-// The four window passes work on the masks' bytes only with AND and OR, so where 64 cells of
-// a row lie inside the map and start 64-aligned (PAD_X and STRIDE are multiples of 64) they
-// take them as one ulong8 instead of four uchar16: the same bytes, a quarter of the work. The
-// rest of a row (its last cells, or a work-item's vectors on a GPU) goes 16 cells at a time.
-#define CLASSIFY_WIDE(v, v1) ((v) % 4 == 0 && (v) + 4 <= (v1) && 16 * (v) + 64 <= WIDTH)
-
-// 64 bytes from any address (as whole 16-byte loads).
-ulong8 ClassifyLoad64(__global const uchar* p) {
-  return (ulong8)(as_ulong2(vload16(0, p)), as_ulong2(vload16(1, p)), as_ulong2(vload16(2, p)),
-                  as_ulong2(vload16(3, p)));
+// Bits c + d of `row` for the 64 columns c of word w, any d; 0 outside the row.
+ulong ClassifyShifted(__global const ulong* row, int w, int d) {
+  const int bit = 64 * w + d;
+  const int word = bit >= 0 ? bit / 64 : -((63 - bit) / 64);  // floor(bit / 64)
+  const int offset = bit - 64 * word;
+  const ulong lo = (word >= 0 && word < BIT_WORDS) ? row[word] : 0;
+  if (offset == 0) return lo;
+  const ulong hi = (word + 1 >= 0 && word + 1 < BIT_WORDS) ? row[word + 1] : 0;
+  return (lo >> offset) | (hi << (64 - offset));
 }
 
-// AND of the row window c - OPENING_RADIUS .. c + OPENING_RADIUS.
-void ClassifyErodeRows(__global const uchar* in, __global uchar* out, int r, int v0, int v1) {
-  for (int v = v0; v < v1;) {
-    const int k = CELL(r, 16 * v);
-    if (CLASSIFY_WIDE(v, v1)) {
-      ulong8 x = (ulong8)(~0ul);
-      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) x &= ClassifyLoad64(in + k + d);
-      *(__global ulong8*)(out + k) = x;
-      v += 4;
-    } else {
-      uchar16 x = (uchar16)(1);
-      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) x &= vload16(0, in + k + d);
-      *(__global uchar16*)(out + k) = x;
-      ++v;
-    }
+// AND (erode) or OR (dilate) of word w of `row` shifted by -OPENING_RADIUS .. OPENING_RADIUS
+// within the row.
+#define CLASSIFY_ROW_WINDOW(Name, op)                                    \
+  ulong Name(__global const ulong* row, int w) {                         \
+    const ulong x = row[w];                                              \
+    const ulong prev = w > 0 ? row[w - 1] : 0;                           \
+    const ulong next = w + 1 < BIT_WORDS ? row[w + 1] : 0;               \
+    ulong v = x;                                                         \
+    for (int d = 1; d <= OPENING_RADIUS; ++d) {                          \
+      if (d < 64) {                                                      \
+        v = v op((x >> d) | (next << (64 - d))) op((x << d) | (prev >> (64 - d))); \
+      } else {                                                           \
+        v = v op ClassifyShifted(row, w, d) op ClassifyShifted(row, w, -d); \
+      }                                                                  \
+    }                                                                    \
+    return v;                                                            \
+  }
+CLASSIFY_ROW_WINDOW(ClassifyErodeRow, &)
+CLASSIFY_ROW_WINDOW(ClassifyDilateRow, |)
+
+// The level bitsets of the whole map, when the row pass of stage 1 did not write them (the map
+// was shifted, fused or written some other way since).
+__kernel void classify_levels(__global const short* map, __global uint* strong,
+                              __global uint* weak) {
+  const int r = get_global_id(1);
+  int w0, w1;
+  if (r >= HEIGHT || !RowWords(&w0, &w1)) return;
+  for (int c0 = 64 * w0; c0 < 64 * w1; c0 += 32) {
+    __global const short* m = map + CELL(r, c0);
+    StoreLevels(*(__global const short16*)m, *(__global const short16*)(m + 16), r, c0, strong,
+                weak);
   }
 }
 
-// AND of the column window.
-void ClassifyErodeCols(__global const uchar* in, __global uchar* out, int r, int v0, int v1) {
-  for (int v = v0; v < v1;) {
-    const int k = CELL(r, 16 * v);
-    if (CLASSIFY_WIDE(v, v1)) {
-      ulong8 x = (ulong8)(~0ul);
-      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) {
-        x &= *(__global const ulong8*)(in + k + d * STRIDE);
-      }
-      *(__global ulong8*)(out + k) = x;
-      v += 4;
-    } else {
-      uchar16 x = (uchar16)(1);
-      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) {
-        x &= *(__global const uchar16*)(in + k + d * STRIDE);
-      }
-      *(__global uchar16*)(out + k) = x;
-      ++v;
-    }
-  }
+__kernel void classify_hysteresis_erode_rows(__global const uint* strong,
+                                             __global const uint* weak, __global ulong* a,
+                                             __global ulong* b) {
+  const int r = get_global_id(1);
+  int w0, w1;
+  const bool active = r < HEIGHT && RowWords(&w0, &w1);
+  if (active) ClassifyHysteresis(strong, weak, a, r, w0, w1);
+  barrier(CLK_GLOBAL_MEM_FENCE);
+  if (!active) return;
+  for (int w = w0; w < w1; ++w) b[r * BIT_WORDS + w] = ClassifyErodeRow(a + r * BIT_WORDS, w);
 }
 
-// OR of the row window, lanes past the width zeroed (wide chunks lie inside the map).
-void ClassifyDilateRows(__global const uchar* in, __global uchar* out, int r, int v0, int v1) {
-  for (int v = v0; v < v1;) {
-    const int k = CELL(r, 16 * v);
-    if (CLASSIFY_WIDE(v, v1)) {
-      ulong8 x = (ulong8)(0);
-      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) x |= ClassifyLoad64(in + k + d);
-      *(__global ulong8*)(out + k) = x;
-      v += 4;
+__kernel void classify_erode_cols_dilate_rows(__global const ulong* b, __global ulong* a,
+                                              __global ulong* c) {
+  const int r = get_global_id(1);
+  int w0, w1;
+  const bool active = r < HEIGHT && RowWords(&w0, &w1);
+  if (active) {
+    // A column window that leaves the map meets a cell that is not free. Rows outer, words
+    // inner: a row's words are contiguous.
+    __global ulong* out = a + r * BIT_WORDS;
+    if (r >= OPENING_RADIUS && r + OPENING_RADIUS < HEIGHT) {
+      __global const ulong* in = b + (r - OPENING_RADIUS) * BIT_WORDS;
+      for (int w = w0; w < w1; ++w) out[w] = in[w];
+      for (int d = 1; d <= 2 * OPENING_RADIUS; ++d) {
+        for (int w = w0; w < w1; ++w) out[w] &= in[d * BIT_WORDS + w];
+      }
     } else {
-      uchar16 x = (uchar16)(0);
-      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) x |= vload16(0, in + k + d);
-      *(__global uchar16*)(out + k) = x & convert_uchar16(InsideLanes(16 * v) & 1);
-      ++v;
+      for (int w = w0; w < w1; ++w) out[w] = 0;
     }
+  }
+  barrier(CLK_GLOBAL_MEM_FENCE);
+  if (!active) return;
+  for (int w = w0; w < w1; ++w) {
+    c[r * BIT_WORDS + w] = ClassifyDilateRow(a + r * BIT_WORDS, w) & ClassifyValidBits(w);
   }
 }
 
 // OR of the column window: the free mask.
-__kernel void classify_dilate_cols(__global const uchar* in, __global uchar* free) {
+__kernel void classify_dilate_cols(__global const ulong* c, __global ulong* free) {
   const int r = get_global_id(1);
-  int v0, v1;
-  if (r >= HEIGHT || !RowVectors(&v0, &v1)) return;
-  for (int v = v0; v < v1;) {
-    const int k = CELL(r, 16 * v);
-    if (CLASSIFY_WIDE(v, v1)) {
-      ulong8 x = (ulong8)(0);
-      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) {
-        x |= *(__global const ulong8*)(in + k + d * STRIDE);
-      }
-      *(__global ulong8*)(free + k) = x;
-      v += 4;
-    } else {
-      uchar16 x = (uchar16)(0);
-      for (int d = -OPENING_RADIUS; d <= OPENING_RADIUS; ++d) {
-        x |= *(__global const uchar16*)(in + k + d * STRIDE);
-      }
-      *(__global uchar16*)(free + k) = x;
-      ++v;
-    }
+  int w0, w1;
+  if (r >= HEIGHT || !RowWords(&w0, &w1)) return;
+  const int d0 = max(r - OPENING_RADIUS, 0), d1 = min(r + OPENING_RADIUS, HEIGHT - 1);
+  __global ulong* out = free + r * BIT_WORDS;
+  for (int w = w0; w < w1; ++w) out[w] = c[d0 * BIT_WORDS + w];
+  for (int d = d0 + 1; d <= d1; ++d) {
+    for (int w = w0; w < w1; ++w) out[w] |= c[d * BIT_WORDS + w];
   }
-}
-
-__kernel void classify_hysteresis_erode_rows(__global const short* map, __global uchar* a,
-                                             __global uchar* b) {
-  const int r = get_global_id(1);
-  int v0, v1;
-  const bool active = r < HEIGHT && RowVectors(&v0, &v1);
-  if (active) ClassifyHysteresis(map, a, r, v0, v1);
-  barrier(CLK_GLOBAL_MEM_FENCE);
-  if (active) ClassifyErodeRows(a, b, r, v0, v1);
-}
-
-__kernel void classify_erode_cols_dilate_rows(__global const uchar* b, __global uchar* a,
-                                              __global uchar* c) {
-  const int r = get_global_id(1);
-  int v0, v1;
-  const bool active = r < HEIGHT && RowVectors(&v0, &v1);
-  if (active) ClassifyErodeCols(b, a, r, v0, v1);
-  barrier(CLK_GLOBAL_MEM_FENCE);
-  if (active) ClassifyDilateRows(a, c, r, v0, v1);
 }

@@ -11,7 +11,8 @@
 // for the next scan; bits make the prefix XOR a few word operations and let edges meet in any
 // order (XOR commutes). The row pass can also fuse the mask into the map (kernel stage 2,
 // fuse.cl's arithmetic) and apply a pending map shift (shift.cl) on the way, so that a scan
-// reads and writes each row once.
+// reads and writes each row once; every map cell it writes also goes into the level bitsets
+// that stage 3 starts from (common.cl, StoreLevels), while the values are in registers.
 //
 // Two shapes, both exact:
 //   elsewhere than on a CPU: rasterize_edges, one work-item per edge and per echo with atomics,
@@ -21,7 +22,7 @@
 //
 // Build options: FIXED_BITS, UPDATE_NONE, UPDATE_FREE, UPDATE_OCCUPIED, L_FREE, L_OCCUPIED,
 // L_MIN, L_MAX, RASTER_GROUP (a power of two up to 256), RASTER_SERIAL (0 or 1), and those of
-// common.cl.
+// common.cl. Arguments after those of the row pass: the level bitsets (strong, weak).
 //
 // The job buffer, written by the host each scan: a header of 8 ints, job[0] vertex count n,
 // job[1] count m of occupied cells on the rasterized rows, job[2] first row r0, job[3] end row
@@ -128,30 +129,37 @@ __kernel void rasterize_edges(__global const int* job, __global uint* toggles,
 // Sixteen mask values from sixteen parity and occupied bits (occupied wins), zero on lanes
 // past the map's width (c0 is the column of lane 0).
 uchar16 RasterExpand16(uint parity, uint occupied, int c0) {
-  const uint16 lane = (uint16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-  const uint16 p = ((uint16)(parity) >> lane) & 1u;
-  const uint16 o = ((uint16)(occupied) >> lane) & 1u;
-  const uint16 inside = select((uint16)(UPDATE_NONE), (uint16)(UPDATE_FREE), p != 0u);
-  const uint16 value = select(inside, (uint16)(UPDATE_OCCUPIED), o != 0u);
-  return convert_uchar16(select((uint16)(0), value, InsideLanes(c0)));
+  const ushort16 lane = (ushort16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const ushort16 p = ((ushort16)((ushort)parity) >> lane) & (ushort16)(1);
+  const ushort16 o = ((ushort16)((ushort)occupied) >> lane) & (ushort16)(1);
+  const ushort16 inside =
+      select((ushort16)(UPDATE_NONE), (ushort16)(UPDATE_FREE), p != (ushort16)(0));
+  const ushort16 value = select(inside, (ushort16)(UPDATE_OCCUPIED), o != (ushort16)(0));
+  return convert_uchar16(value & as_ushort16(InsideLanes16(c0)));
 }
 
-// Kernel stage 2 folded into the row pass (fuse.cl's arithmetic): fuses the mask vector `u` of
-// columns c0 .. c0 + 15 into the map cells `m` and stores them at `out`.
-void RasterFuse16(short16 m, uchar16 u, int c0, __global short* out) {
-  const int16 value = convert_int16(u);
-  const int16 delta = select(select((int16)(0), (int16)(L_OCCUPIED), value == UPDATE_OCCUPIED),
-                             (int16)(L_FREE), value == UPDATE_FREE);
-  const int16 fused = clamp(convert_int16(m) + delta, L_MIN, L_MAX);
-  *(__global short16*)out = convert_short16(select((int16)(0), fused, InsideLanes(c0)));
+// Kernel stage 2 folded into the row pass (fuse.cl's arithmetic): the map cells `m` of columns
+// c0 .. c0 + 15 with the mask vector `u` fused in, 0 past the width.
+// In 16 bits: L_MIN .. L_MAX lie inside the range of short, so clamping the saturated sum gives
+// the same value as clamping the exact one.
+short16 RasterFuse16(short16 m, uchar16 u, int c0) {
+  const short16 value = convert_short16(u);
+  const short16 delta =
+      select(select((short16)(0), (short16)(L_OCCUPIED), value == (short16)(UPDATE_OCCUPIED)),
+             (short16)(L_FREE), value == (short16)(UPDATE_FREE));
+  const short16 fused = clamp(add_sat(m, delta), (short16)(L_MIN), (short16)(L_MAX));
+  return fused & InsideLanes16(c0);
 }
 
 // What the row pass does to the map besides writing the mask: nothing (src null), fuse in
-// place (src == dst), or shift src into dst by (dx, dy) and fuse there.
+// place (src == dst), or shift src into dst by (dx, dy) and fuse there. Whenever it writes map
+// cells it also writes their level bits (common.cl, StoreLevels) for stage 3.
 typedef struct {
   __global const short* src;
   __global short* dst;
   int dx, dy;
+  __global uint* strong;
+  __global uint* weak;
 } RasterMap;
 
 // Turns words [w0, w1) of row r into mask values; `fill` is all ones when the parity left of
@@ -179,17 +187,23 @@ void RasterWords(__global uint* toggles, __global uint* occupied, __global uchar
     *(__global uchar16*)(update + k) = lo;
     *(__global uchar16*)(update + k + 16) = hi;
     if (map.src == 0) continue;
-    const short16 m_lo = ShiftedCells(map.src, r, c0, map.dx, map.dy);
-    const short16 m_hi = ShiftedCells(map.src, r, c0 + 16, map.dx, map.dy);
-    RasterFuse16(m_lo, lo, c0, map.dst + k);
-    RasterFuse16(m_hi, hi, c0 + 16, map.dst + k + 16);
+    const short16 m_lo = RasterFuse16(ShiftedCells(map.src, r, c0, map.dx, map.dy), lo, c0);
+    const short16 m_hi =
+        RasterFuse16(ShiftedCells(map.src, r, c0 + 16, map.dx, map.dy), hi, c0 + 16);
+    *(__global short16*)(map.dst + k) = m_lo;
+    *(__global short16*)(map.dst + k + 16) = m_hi;
+    StoreLevels(m_lo, m_hi, r, c0, map.strong, map.weak);
   }
 }
 
 // Words [w0, w1) of a row outside the rasterized rows while the map shifts: the shift only.
 void RasterShiftWords(RasterMap map, int r, int w0, int w1) {
-  for (int c0 = 32 * w0; c0 < 32 * w1; c0 += 16) {
-    *(__global short16*)(map.dst + CELL(r, c0)) = ShiftedCells(map.src, r, c0, map.dx, map.dy);
+  for (int c0 = 32 * w0; c0 < 32 * w1; c0 += 32) {
+    const short16 m_lo = ShiftedCells(map.src, r, c0, map.dx, map.dy);
+    const short16 m_hi = ShiftedCells(map.src, r, c0 + 16, map.dx, map.dy);
+    *(__global short16*)(map.dst + CELL(r, c0)) = m_lo;
+    *(__global short16*)(map.dst + CELL(r, c0 + 16)) = m_hi;
+    StoreLevels(m_lo, m_hi, r, c0, map.strong, map.weak);
   }
 }
 
@@ -250,11 +264,12 @@ bool RasterRowOf(int row_first, int row_end, int* r) {
 __kernel void rasterize_rows(__global const int* job, __global uint* toggles,
                              __global uint* occupied, __global uchar* update,
                              __global const short* src, __global short* dst, int dx, int dy,
-                             int row_first, int row_end) {
+                             int row_first, int row_end, __global uint* strong,
+                             __global uint* weak) {
   __local uint carry[RASTER_CARRY];
   int r;
   if (!RasterRowOf(row_first, row_end, &r)) return;
-  const RasterMap map = {src, dst, dx, dy};
+  const RasterMap map = {src, dst, dx, dy, strong, weak};
   RasterRow(job, toggles, occupied, update, map, r, carry);
 }
 
@@ -268,7 +283,8 @@ __kernel void rasterize_rows(__global const int* job, __global uint* toggles,
 __kernel void rasterize_bands(__global const int* job, __global uint* toggles,
                               __global uint* occupied, __global uchar* update,
                               __global const short* src, __global short* dst, int dx, int dy,
-                              int row_first, int row_end, int band) {
+                              int row_first, int row_end, int band, __global uint* strong,
+                              __global uint* weak) {
   const int b = get_global_id(0);
   const int ba = row_first + b * band, bb = min(ba + band, row_end);
   if (ba >= bb) return;
@@ -283,7 +299,7 @@ __kernel void rasterize_bands(__global const int* job, __global uint* toggles,
   if (b == 0) {
     for (int i = 0; i < job[4]; ++i) RasterOtherEcho(JOB_OTHER_CELLS(job)[i], update);
   }
-  const RasterMap map = {src, dst, dx, dy};
+  const RasterMap map = {src, dst, dx, dy, strong, weak};
   for (int r = ba; r < bb; ++r) RasterRow(job, toggles, occupied, update, map, r, 0);
 }
 #endif

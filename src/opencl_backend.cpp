@@ -1,10 +1,11 @@
 // OpenClBackend: buffers, kernels and work sizes set up once; per scan, only enqueues (plus the
-// job upload and the C_Edge read-back). Kernel arguments that are buffers are set at
+// job upload and the stop-cell read-back). Kernel arguments that are buffers are set at
 // construction (and again only when the job buffer grows); per call only scalars change.
 #include "opencl_backend.hpp"
 
 #include <algorithm>
 #include <climits>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -38,10 +39,8 @@ constexpr std::size_t kCpuRowsPerGroup = 4;
 constexpr std::size_t kGpuGroup = 64;
 constexpr std::size_t kGpuRowGroup = 256;  // at most this many work-items for one row
 constexpr std::size_t kEdgeGroup = 16;     // rasterize_edges, rays_cast: uneven loop lengths
-constexpr std::size_t kCastGroup = 16;
-constexpr std::size_t kBandsPerUnit = 4;    // rasterize_bands     // insight_cast
-constexpr std::size_t kCompactGroup = 256;  // insight_compact's one work-group; 32 on a CPU
-constexpr std::size_t kCpuCompactGroup = 32;
+constexpr std::size_t kCastGroup = 16;     // insight_cast
+constexpr std::size_t kBandsPerUnit = 4;   // rasterize_bands
 constexpr std::size_t kMaxRasterGroup = 256;
 
 // Initial capacity of the job buffer, in ints: a ScaLa scan (581 beams, ~2000 echoes) fits.
@@ -134,14 +133,14 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   rasterize_edges_ = MakeKernel("rasterize_edges");
   row_mask_ = MakeKernel(row_pass);
   insight_cast_ = MakeKernel("insight_cast");
-  insight_compact_ = MakeKernel("insight_compact");
   rays_cast_ = MakeKernel("rays_cast");
+  hysteresis_ = MakeKernel("classify_hysteresis_erode_rows");
   erode_dilate_ = MakeKernel("classify_erode_cols_dilate_rows");
   dilate_cols_ = MakeKernel("classify_dilate_cols");
   for (int k = 0; k < 2; ++k) {
     fuse_[k] = MakeKernel("fuse");
     rays_fuse_[k] = MakeKernel("rays_fuse");
-    hysteresis_[k] = MakeKernel("classify_hysteresis_erode_rows");
+    levels_[k] = MakeKernel("classify_levels");
     shift_[k] = MakeKernel("shift_map");
     row_fuse_[k][0] = MakeKernel(row_pass);
     row_fuse_[k][1] = MakeKernel(row_pass);
@@ -157,37 +156,39 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   const std::size_t labels = std::size_t(BorderLabelCount(height, width));
   const std::size_t padded = layout_.cells;
   const std::size_t bit_words = words * std::size_t(height);
+  const std::size_t mask_bytes = std::size_t(BitWords()) * height * 8;
   for (opencl::Mem& map : map_) map = buffer(padded * sizeof(LogOdds));
   update_ = buffer(padded);
   toggles_ = buffer(bit_words * 4);
   occupied_ = buffer(bit_words * 4);
-  pass_a_ = buffer(padded);
-  pass_b_ = buffer(padded);
-  pass_c_ = buffer(padded);
-  free_ = buffer(padded);
-  label_ = buffer(cells() * 4);
+  const std::size_t level_bytes = std::size_t(2 * BitWords()) * height * 4;
+  strong_ = buffer(level_bytes);
+  weak_ = buffer(level_bytes);
+  bits_a_ = buffer(mask_bytes);
+  bits_b_ = buffer(mask_bytes);
+  bits_c_ = buffer(mask_bytes);
+  free_ = buffer(mask_bytes);
   stop_ = buffer(labels * 4);
-  edges_ = buffer((labels + 1) * 4);
   delta_ = buffer(padded * 4);
   GrowJob(kInitialJobInts);
-  edges_host_.assign(labels + 1, 0);
+  stop_host_.assign(labels, 0);
+  label_host_.assign(cells(), INT32_MAX);
+  free_host_.assign(mask_bytes / 8, 0);
   row_counts_.assign(std::size_t(height) + 1, 0);
 
   // Initial contents: every cell buffer zero (the map unknown, the padding zero for good), the
-  // bit planes zero, T empty.
+  // bit planes and masks zero.
   for (opencl::Mem& map : map_) Fill(map.get(), padded * sizeof(LogOdds));
   Fill(update_.get(), padded);
   Fill(toggles_.get(), bit_words * 4);
   Fill(occupied_.get(), bit_words * 4);
-  Fill(pass_a_.get(), padded);
-  Fill(pass_b_.get(), padded);
-  Fill(pass_c_.get(), padded);
-  Fill(free_.get(), padded);
+  Fill(strong_.get(), level_bytes);
+  Fill(weak_.get(), level_bytes);
+  Fill(bits_a_.get(), mask_bytes);
+  Fill(bits_b_.get(), mask_bytes);
+  Fill(bits_c_.get(), mask_bytes);
+  Fill(free_.get(), mask_bytes);
   Fill(delta_.get(), padded * 4);
-  const cl_int none = INT_MAX;
-  Check(clEnqueueFillBuffer(queue_.get(), label_.get(), &none, sizeof none, 0, cells() * 4, 0,
-                            nullptr, nullptr),
-        "clEnqueueFillBuffer");
 
   // Buffer arguments, set once.
   const cl_kernel edges = rasterize_edges_.get();
@@ -207,28 +208,30 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
       SetArg(kernels[i], 3, update_.get());
       SetArg(kernels[i], 4, src[i]);
       SetArg(kernels[i], 5, dst[i]);
+      SetArg(kernels[i], bands_ ? 11 : 10, strong_.get());
+      SetArg(kernels[i], bands_ ? 12 : 11, weak_.get());
     }
   }
   SetArg(rays_cast_.get(), 1, delta_.get());
-  SetArg(erode_dilate_.get(), 0, pass_b_.get());
-  SetArg(erode_dilate_.get(), 1, pass_a_.get());
-  SetArg(erode_dilate_.get(), 2, pass_c_.get());
-  SetArg(dilate_cols_.get(), 0, pass_c_.get());
+  SetArg(hysteresis_.get(), 0, strong_.get());
+  SetArg(hysteresis_.get(), 1, weak_.get());
+  SetArg(hysteresis_.get(), 2, bits_a_.get());
+  SetArg(hysteresis_.get(), 3, bits_b_.get());
+  SetArg(erode_dilate_.get(), 0, bits_b_.get());
+  SetArg(erode_dilate_.get(), 1, bits_a_.get());
+  SetArg(erode_dilate_.get(), 2, bits_c_.get());
+  SetArg(dilate_cols_.get(), 0, bits_c_.get());
   SetArg(dilate_cols_.get(), 1, free_.get());
   SetArg(insight_cast_.get(), 0, free_.get());
-  SetArg(insight_cast_.get(), 1, label_.get());
-  SetArg(insight_cast_.get(), 2, stop_.get());
-  SetArg(insight_compact_.get(), 0, stop_.get());
-  SetArg(insight_compact_.get(), 1, label_.get());
-  SetArg(insight_compact_.get(), 2, edges_.get());
+  SetArg(insight_cast_.get(), 1, stop_.get());
   for (int k = 0; k < 2; ++k) {
     SetArg(fuse_[k].get(), 0, map_[k].get());
     SetArg(fuse_[k].get(), 1, update_.get());
     SetArg(rays_fuse_[k].get(), 0, map_[k].get());
     SetArg(rays_fuse_[k].get(), 1, delta_.get());
-    SetArg(hysteresis_[k].get(), 0, map_[k].get());
-    SetArg(hysteresis_[k].get(), 1, pass_a_.get());
-    SetArg(hysteresis_[k].get(), 2, pass_b_.get());
+    SetArg(levels_[k].get(), 0, map_[k].get());
+    SetArg(levels_[k].get(), 1, strong_.get());
+    SetArg(levels_[k].get(), 2, weak_.get());
     SetArg(shift_[k].get(), 0, map_[k].get());
     SetArg(shift_[k].get(), 1, map_[1 - k].get());
   }
@@ -236,7 +239,7 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   // Work sizes. Global sizes are rounded up to whole work-groups; the kernels skip the extra
   // work-items, so no size has to divide the map.
   std::size_t most = max_group;
-  for (const cl_kernel k : {erode_dilate_.get(), dilate_cols_.get(), hysteresis_[0].get(),
+  for (const cl_kernel k : {erode_dilate_.get(), dilate_cols_.get(), hysteresis_.get(),
                             shift_[0].get(), fuse_[0].get(), rays_fuse_[0].get()}) {
     most = std::min(most, LocalSize(k, max_group));
   }
@@ -249,6 +252,13 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   rows_local_[1] = std::max<std::size_t>(
       1,
       std::min({cpu ? kCpuRowsPerGroup : kGpuGroup / row_items_, most / row_items_, max_items[1]}));
+  // Bitset kernels: words of 64 cells, BIT_WORDS_PER_ITEM of them per work-item (common.cl).
+  const std::size_t words_per_item = (std::size_t(vectors_per_item_) + 3) / 4;
+  bit_items_ = (std::size_t(BitWords()) + words_per_item - 1) / words_per_item;
+  bits_local_[0] = bit_items_;
+  bits_local_[1] = std::max<std::size_t>(
+      1,
+      std::min({cpu ? kCpuRowsPerGroup : kGpuGroup / bit_items_, most / bit_items_, max_items[1]}));
   if (raster_group_ == 1) {
     raster_local_[0] = 1;
     raster_local_[1] = std::min(kCpuRowsPerGroup, LocalSize(row_mask_.get(), max_group));
@@ -264,9 +274,6 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
                          LocalSize(rays_cast_.get(), kEdgeGroup));
   cast_local_ = LocalSize(insight_cast_.get(), kCastGroup);
   cast_global_ = RoundUp(labels, cast_local_);
-  compact_size_ = LocalSize(insight_compact_.get(), cpu ? kCpuCompactGroup : kCompactGroup);
-  Check(clSetKernelArg(insight_compact_.get(), 3, compact_size_ * sizeof(cl_int), nullptr),
-        "clSetKernelArg");
 
   Finish();
 }
@@ -438,6 +445,7 @@ void OpenClBackend::Fuse(int row_begin, int row_end) {
     if (shift_pending_) {
       RowPass(row_fuse_[current_][1].get(), pending_dx_, pending_dy_, 0, params_.height,
               event.out());
+      levels_valid_ = true;  // it wrote every row
     } else {
       RowPass(row_fuse_[current_][0].get(), 0, 0, r0, r1, event.out());
     }
@@ -450,6 +458,7 @@ void OpenClBackend::Fuse(int row_begin, int row_end) {
   Flush();
   if (r0 >= r1) return;
   const cl_kernel kernel = fuse_[current_].get();
+  levels_valid_ = false;
   SetArg(kernel, 2, cl_int(r0));
   SetArg(kernel, 3, cl_int(r1));
   opencl::Event event;
@@ -479,6 +488,7 @@ void OpenClBackend::FuseRays(int row_begin, int row_end) {
   const int r0 = std::max(row_begin, 0), r1 = std::min(row_end, params_.height);
   if (r0 >= r1) return;
   const cl_kernel kernel = rays_fuse_[current_].get();
+  levels_valid_ = false;
   SetArg(kernel, 2, cl_int(r0));
   SetArg(kernel, 3, cl_int(r1));
   opencl::Event event;
@@ -491,35 +501,49 @@ void OpenClBackend::Classify() {
   Flush();
   opencl::Event begin, end;
   const int height = params_.height;
-  RowsLaunch(hysteresis_[current_].get(), height, begin.out());
-  RowsLaunch(erode_dilate_.get(), height, nullptr);
-  RowsLaunch(dilate_cols_.get(), height, end.out());
+  if (!levels_valid_) {
+    BitsLaunch(levels_[current_].get(), height, begin.out());
+    BitsLaunch(hysteresis_.get(), height, nullptr);
+    levels_valid_ = true;
+  } else {
+    BitsLaunch(hysteresis_.get(), height, begin.out());
+  }
+  BitsLaunch(erode_dilate_.get(), height, nullptr);
+  BitsLaunch(dilate_cols_.get(), height, end.out());
   SetStage(kClassifyStage, std::move(begin), std::move(end));
 }
 
 void OpenClBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
   Flush();
   const cl_kernel cast = insight_cast_.get();
-  SetArg(cast, 3, cl_int(vehicle.col));
-  SetArg(cast, 4, cl_int(vehicle.row));
+  SetArg(cast, 2, cl_int(vehicle.col));
+  SetArg(cast, 3, cl_int(vehicle.row));
   opencl::Event begin, end;
   Launch(cast, 1, &cast_global_, &cast_local_, begin.out());
-  Launch(insight_compact_.get(), 1, &compact_size_, &compact_size_, nullptr);
-  Check(clEnqueueReadBuffer(queue_.get(), edges_.get(), CL_TRUE, 0, edges_host_.size() * 4,
-                            edges_host_.data(), 0, nullptr, end.out()),
+  Check(clEnqueueReadBuffer(queue_.get(), stop_.get(), CL_TRUE, 0, stop_host_.size() * 4,
+                            stop_host_.data(), 0, nullptr, end.out()),
         "clEnqueueReadBuffer");
   SetStage(kInSightStage, std::move(begin), std::move(end));
-  const int width = params_.width;
-  const int count = edges_host_[0];
+  // C_Edge as host/insight.cpp builds it: T keeps the smallest label per stop cell (labels
+  // run upwards, so the first to arrive), then the cells whose smallest label is this one.
+  const int width = params_.width, labels = int(stop_host_.size());
+  const std::int32_t* stop = stop_host_.data();
+  std::int32_t* t = label_host_.data();
+  for (int l = 0; l < labels; ++l) {
+    if (t[stop[l]] == INT32_MAX) t[stop[l]] = l;
+  }
   edges->clear();
-  for (int i = 1; i <= count; ++i)
-    edges->push_back({edges_host_[i] / width, edges_host_[i] % width});
+  for (int l = 0; l < labels; ++l) {
+    if (t[stop[l]] == l) edges->push_back({stop[l] / width, stop[l] % width});
+  }
+  for (int l = 0; l < labels; ++l) t[stop[l]] = INT32_MAX;
 }
 
 void OpenClBackend::Shift(int dx, int dy) {
   Flush();
   if (dx == 0 && dy == 0) return;
   if (std::abs(dx) >= params_.width || std::abs(dy) >= params_.height) {
+    levels_valid_ = false;
     Fill(map_[current_].get(), layout_.cells * sizeof(LogOdds));
     return;
   }
@@ -538,6 +562,7 @@ void OpenClBackend::FlushShift() {
   SetArg(kernel, 3, cl_int(pending_dy_));
   RowsLaunch(kernel, params_.height, nullptr);
   current_ = 1 - current_;
+  levels_valid_ = false;
 }
 
 void OpenClBackend::Flush() {
@@ -547,8 +572,9 @@ void OpenClBackend::Flush() {
 
 void OpenClBackend::Clear() {
   Flush();
+  levels_valid_ = false;
   Fill(map_[current_].get(), layout_.cells * sizeof(LogOdds));
-  Fill(free_.get(), layout_.cells);
+  Fill(free_.get(), free_host_.size() * 8);
 }
 
 void OpenClBackend::Finish() {
@@ -565,6 +591,11 @@ void OpenClBackend::Fill(cl_mem buffer, std::size_t bytes) {
 void OpenClBackend::RowsLaunch(cl_kernel kernel, int rows, cl_event* event) {
   const std::size_t global[2] = {row_items_, RoundUp(std::size_t(rows), rows_local_[1])};
   Launch(kernel, 2, global, rows_local_, event);
+}
+
+void OpenClBackend::BitsLaunch(cl_kernel kernel, int rows, cl_event* event) {
+  const std::size_t global[2] = {bit_items_, RoundUp(std::size_t(rows), bits_local_[1])};
+  Launch(kernel, 2, global, bits_local_, event);
 }
 
 void OpenClBackend::ReadCells(cl_mem buffer, std::size_t element, void* dst) {
@@ -600,15 +631,41 @@ void OpenClBackend::ReadLogOdds(LogOdds* dst) {
 }
 void OpenClBackend::WriteLogOdds(const LogOdds* src) {
   Flush();
+  levels_valid_ = false;
   WriteCells(map_[current_].get(), sizeof(LogOdds), src);
 }
 void OpenClBackend::ReadUpdateMask(std::uint8_t* dst) { ReadCells(update_.get(), 1, dst); }
 void OpenClBackend::WriteUpdateMask(const std::uint8_t* src) { WriteCells(update_.get(), 1, src); }
-void OpenClBackend::ReadFree(std::uint8_t* dst) { ReadCells(free_.get(), 1, dst); }
+void OpenClBackend::ReadFree(std::uint8_t* dst) {
+  Flush();
+  Check(clEnqueueReadBuffer(queue_.get(), free_.get(), CL_TRUE, 0, free_host_.size() * 8,
+                            free_host_.data(), 0, nullptr, nullptr),
+        "clEnqueueReadBuffer");
+  const int width = params_.width, nw = BitWords();
+  for (int r = 0; r < params_.height; ++r) {
+    for (int c = 0; c < width; ++c) {
+      dst[std::size_t(r) * width + c] = (free_host_[std::size_t(r) * nw + c / 64] >> (c % 64)) & 1;
+    }
+  }
+}
 void OpenClBackend::ReadRayDelta(std::int32_t* dst) {
   ReadCells(delta_.get(), sizeof(std::int32_t), dst);
 }
-void OpenClBackend::WriteFree(const std::uint8_t* src) { WriteCells(free_.get(), 1, src); }
+void OpenClBackend::WriteFree(const std::uint8_t* src) {
+  Flush();
+  const int width = params_.width, nw = BitWords();
+  std::fill(free_host_.begin(), free_host_.end(), std::uint64_t{0});
+  for (int r = 0; r < params_.height; ++r) {
+    for (int c = 0; c < width; ++c) {
+      if (src[std::size_t(r) * width + c]) {
+        free_host_[std::size_t(r) * nw + c / 64] |= std::uint64_t{1} << (c % 64);
+      }
+    }
+  }
+  Check(clEnqueueWriteBuffer(queue_.get(), free_.get(), CL_TRUE, 0, free_host_.size() * 8,
+                             free_host_.data(), 0, nullptr, nullptr),
+        "clEnqueueWriteBuffer");
+}
 
 bool OpenClBackend::KernelTimes(StageTimes* times) const {
   double* fields[kStageCount] = {&times->rasterize_us, &times->fuse_us, &times->classify_us,

@@ -1,6 +1,7 @@
 // The OpenCL backend: every kernel stage as the kernels of kernels/*.cl, run on the device the
 // config (or the environment) chooses. The map and every per-scan buffer stay resident on the
-// device between scans; a scan uploads its raster (or ray) job and reads back only C_Edge.
+// device between scans; a scan uploads its raster (or ray) job and reads back only the stop
+// cells of the border rays, from which the host builds C_Edge.
 // Stages are enqueued without waiting; InSight() waits for its result, Finish() for everything.
 // Bit-identical to the host backend (host/), which is its oracle in the tests.
 #pragma once
@@ -54,9 +55,10 @@ class OpenClBackend final : public Backend {
   // the end of its last. rasterize_us: the job upload and rasterize_edges (GPU shape; the CPU
   // shape does the edges in the row pass), plus the row pass when it ran on its own; fuse_us:
   // the row pass of stage 1 with the fusion (and a deferred map shift) folded in, or fuse.
-  // Conventional model: ray upload + rays_cast, and rays_fuse. classify_us: the three classify
-  // kernels. insight_us: the insight kernels and reading C_Edge back. Each measurement is
-  // reported once; stages that did not run since the last call keep the caller's values.
+  // Conventional model: ray upload + rays_cast, and rays_fuse. classify_us: the classify
+  // kernels (classify_levels included when it ran). insight_us: insight_cast and reading the
+  // stop cells back. Each measurement is reported once; stages that did not run since the last
+  // call keep the caller's values.
   bool KernelTimes(StageTimes* times) const override;
 
   // The padded cell layout of the device buffers (kernels/common.cl): PAD_Y zero rows above
@@ -79,6 +81,7 @@ class OpenClBackend final : public Backend {
   enum Stage { kRasterStage, kFuseStage, kClassifyStage, kInSightStage, kStageCount };
 
   std::size_t cells() const { return std::size_t(params_.width) * params_.height; }
+  int BitWords() const { return (params_.width + 63) / 64; }  // bitset words per row
   opencl::Kernel MakeKernel(const char* name) const;
   std::size_t LocalSize(cl_kernel kernel, std::size_t preferred) const;
   void Launch(cl_kernel kernel, cl_uint dims, const std::size_t* global, const std::size_t* local,
@@ -94,8 +97,9 @@ class OpenClBackend final : public Backend {
   // (width * height elements, row-major).
   void ReadCells(cl_mem buffer, std::size_t element, void* dst);
   void WriteCells(cl_mem buffer, std::size_t element, const void* src);
-  // Global and local sizes of a kernel over `rows` rows of 16-cell vectors.
+  // Global and local sizes of a kernel over `rows` rows of 16-cell vectors, or of bitset words.
   void RowsLaunch(cl_kernel kernel, int rows, cl_event* event);
+  void BitsLaunch(cl_kernel kernel, int rows, cl_event* event);
   void SetStage(Stage stage, opencl::Event begin, opencl::Event end);
   // Enqueues the deferred shift and row pass on their own.
   void Flush();
@@ -122,20 +126,20 @@ class OpenClBackend final : public Backend {
   opencl::Mem update_;            // stage 1 -> stage 2, uchar per cell
   opencl::Mem toggles_;           // stage 1 bit planes, one bit per cell, rows of whole words
   opencl::Mem occupied_;          //
-  opencl::Mem pass_a_;            // stage 3 intermediates
-  opencl::Mem pass_b_;            //
-  opencl::Mem pass_c_;            //
-  opencl::Mem free_;              // stage 3 output, stage 4 input
-  opencl::Mem label_;             // stage 4: T, smallest label per stop cell (INT_MAX = none)
-  opencl::Mem stop_;              // stage 4: stop cell per label
-  opencl::Mem edges_;             // stage 4 output: count, then C_Edge cells
+  opencl::Mem strong_;            // level bitsets of the map, stage 1 or 3 -> stage 3
+  opencl::Mem weak_;              //
+  opencl::Mem bits_a_;            // stage 3 intermediates, bitsets (common.cl)
+  opencl::Mem bits_b_;            //
+  opencl::Mem bits_c_;            //
+  opencl::Mem free_;              // stage 3 output, stage 4 input: bitset
+  opencl::Mem stop_;              // stage 4 output: stop cell per label
   opencl::Mem delta_;             // conventional model: per-cell sum of one scan's rays
   opencl::Mem job_;               // the raster or ray job (rasterize.cl, rays.cl)
   std::size_t job_capacity_ = 0;  // ints
 
-  opencl::Kernel rasterize_edges_, insight_cast_, insight_compact_, rays_cast_;
-  opencl::Kernel erode_dilate_, dilate_cols_;
-  std::array<opencl::Kernel, 2> fuse_, rays_fuse_, hysteresis_, shift_;  // per map buffer
+  opencl::Kernel rasterize_edges_, insight_cast_, rays_cast_;
+  opencl::Kernel hysteresis_, erode_dilate_, dilate_cols_;
+  std::array<opencl::Kernel, 2> fuse_, rays_fuse_, levels_, shift_;  // per map buffer
   // The row pass of stage 1 (rasterize_rows, or rasterize_bands on a CPU): the mask only, and
   // per map buffer k with the fusion, [k][0] in place on map_[k], [k][1] shifting map_[k] into
   // map_[1 - k] on the way.
@@ -150,17 +154,24 @@ class OpenClBackend final : public Backend {
   int pending_dx_ = 0, pending_dy_ = 0;
   bool rows_pending_ = false;
   int pending_begin_ = 0, pending_end_ = 0;
+  // True while strong_ / weak_ hold the level bits of the map: the row pass that fuses writes
+  // them for the rows it writes, so Classify() needs no pass over the map of its own unless
+  // the map changed some other way (a shift or fusion on its own, a fill, a write).
+  bool levels_valid_ = false;
 
   // Work sizes, fixed at construction.
   std::size_t row_items_ = 1;                     // work-items per row of kernels over cells
   std::size_t rows_local_[2] = {1, 1};            // their work-group
+  std::size_t bit_items_ = 1;                     // work-items per row of bitset kernels
+  std::size_t bits_local_[2] = {1, 1};            // their work-group
   std::size_t raster_local_[2] = {1, 1};          // rasterize_rows
   std::size_t edge_local_ = 1;                    // rasterize_edges, rays_cast
   std::size_t cast_local_ = 1, cast_global_ = 1;  // insight_cast
-  std::size_t compact_size_ = 1;                  // insight_compact: one work-group
 
   std::vector<std::int32_t> job_host_;    // staging of the job upload
-  std::vector<std::int32_t> edges_host_;  // C_Edge as read back
+  std::vector<std::int32_t> stop_host_;   // stage 4: stop cells as read back
+  std::vector<std::int32_t> label_host_;  // stage 4: T, smallest label per cell (INT32_MAX)
+  std::vector<std::uint64_t> free_host_;  // the free mask for ReadFree() / WriteFree()
   std::vector<std::int32_t> row_counts_;  // counting sort of the occupied cells by row
   opencl::Event upload_done_;             // the last upload from job_host_
 

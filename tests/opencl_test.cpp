@@ -198,8 +198,14 @@ std::vector<std::int32_t> StarPolygon(std::mt19937& rng, int width, int height) 
 TEST_P(WorkShapeTest, EveryStageMatchesTheHost) {
   FREESPACE_DEVICE_OR_SKIP(found);
   std::mt19937 rng(29);
-  for (const auto& [width, height, radius] : std::vector<std::tuple<int, int, int>>{
-           {1, 1, 0}, {5, 3, 1}, {33, 17, 2}, {37, 61, 4}, {300, 300, 4}, {517, 263, 18}}) {
+  for (const auto& [width, height, radius] :
+       std::vector<std::tuple<int, int, int>>{{1, 1, 0},
+                                              {5, 3, 1},
+                                              {33, 17, 2},
+                                              {37, 61, 4},
+                                              {300, 300, 4},
+                                              {517, 263, 18},
+                                              {333, 170, 70}}) {
     const KernelParams params = test::SmallParams(width, height, radius);
     HostBackend host(params, 0);
     OpenClBackend ocl(params, BackendConfig{}, GetParam());
