@@ -8,6 +8,11 @@
 // their smallest label, is a few thousand steps of bookkeeping that the host does on the stop
 // cells it reads back (src/opencl_backend.cpp), as the host backend does.
 //
+// The rays visit exactly the cells of host::CastRay, as host/insight.cpp walks them: one loop
+// per major axis (every step moves one column on a shallow ray, one row on a steep one), and
+// rays within about 14 degrees of a row a run (one row's part of the ray) at a time, 64 cells
+// a bitset word.
+//
 // Build options: those of common.cl. The free mask is a bitset (common.cl).
 
 #define INSIGHT_LABELS (2 * HEIGHT + 2 * WIDTH)
@@ -22,31 +27,99 @@ int2 InsightBorderCell(int label0) {
   return (int2)(2 * HEIGHT + 2 * WIDTH - l, HEIGHT - 1);
 }
 
+// The first column u in [from, to] (from <= to: eastwards; from > to: westwards) whose bit in
+// the bitset row `line` is 0, or -1.
+int InsightFirstNotFree(__global const ulong* line, int from, int to) {
+  if (from <= to) {
+    for (int w = from >> 6; w <= to >> 6; ++w) {
+      ulong hits = ~line[w];
+      if (w == from >> 6) hits &= ~0UL << (from & 63);
+      if (w == to >> 6) hits &= ~0UL >> (63 - (to & 63));
+      // The lowest set bit: its index is 63 minus the leading zeros of it alone.
+      if (hits != 0) return w * 64 + 63 - (int)clz(hits & (~hits + 1UL));
+    }
+  } else {
+    for (int w = from >> 6; w >= to >> 6; --w) {
+      ulong hits = ~line[w];
+      if (w == from >> 6) hits &= ~0UL >> (63 - (from & 63));
+      if (w == to >> 6) hits &= ~0UL << (to & 63);
+      if (hits != 0) return w * 64 + 63 - (int)clz(hits);
+    }
+  }
+  return -1;
+}
+
+// A shallow ray (dx >= 4 dy > 0) from (x0, y0) a row at a time. Step k (0 .. dx) of the ray
+// lies floor((2 dy k + dx) / (2 dx)) rows off the start, so the cells of row offset m are the
+// steps K(m) = ceil(dx (2m - 1) / (2 dy)) to K(m + 1) - 1, and K(m + 1) - K(m) is q or q + 1
+// with 2 dx = q 2 dy + r.
+int InsightRunRay(__global const ulong* free, int x0, int y0, int dx, int dy, int sx, int sy) {
+  const int q = dx / dy, r = (2 * dx) % (2 * dy);
+  int k_next = (dx + 2 * dy - 1) / (2 * dy);  // K(1)
+  int rem = (dx + 2 * dy - 1) % (2 * dy);
+  int k = 1;  // the vehicle's own cell (k = 0) never stops a ray
+  int y = y0;
+  while (true) {
+    const int k_end = min(k_next - 1, dx);
+    if (k <= k_end) {
+      const int x = InsightFirstNotFree(free + y * BIT_WORDS, x0 + sx * k, x0 + sx * k_end);
+      if (x >= 0) return y * WIDTH + x;
+    }
+    if (k_end == dx) return y * WIDTH + x0 + sx * dx;
+    k = k_end + 1;
+    y += sy;
+    k_next += q;
+    rem += r;
+    if (rem >= 2 * dy) {
+      rem -= 2 * dy;
+      ++k_next;
+    }
+  }
+}
+
+// The stop cell of the ray from (x0, y0) over dx = |x1 - x0|, dy = |y1 - y0| cells in
+// directions (sx, sy): host::CastRay's cells, where a shallow ray (dx >= dy) steps x on every
+// iteration and y where 2 err <= dx, and a steep one steps y on every iteration and x where
+// 2 err >= -dy.
+int InsightRay(__global const ulong* free, int x0, int y0, int dx, int dy, int sx, int sy) {
+  if (dy > 0 && dx >= 4 * dy) return InsightRunRay(free, x0, y0, dx, dy, sx, sy);
+  int err = dx - dy, x = x0, y = y0;
+  __global const ulong* line = free + y0 * BIT_WORDS;
+  const int row_step = sy * BIT_WORDS;
+  if (dx >= dy) {
+    for (int k = 0; k < dx; ++k) {
+      const bool y_step = 2 * err <= dx;
+      err -= dy;
+      x += sx;
+      if (y_step) {
+        err += dx;
+        y += sy;
+        line += row_step;
+      }
+      if (!((line[x >> 6] >> (x & 63)) & 1)) break;
+    }
+  } else {
+    for (int k = 0; k < dy; ++k) {
+      const bool x_step = 2 * err >= -dy;
+      err += dx;
+      y += sy;
+      line += row_step;
+      if (x_step) {
+        err -= dy;
+        x += sx;
+      }
+      if (!((line[x >> 6] >> (x & 63)) & 1)) break;
+    }
+  }
+  return y * WIDTH + x;
+}
+
 __kernel void insight_cast(__global const ulong* free, __global int* stop, int vehicle_col,
                            int vehicle_row) {
   const int l = get_global_id(0);
   if (l >= INSIGHT_LABELS) return;
   const int2 target = InsightBorderCell(l);
-  const int x0 = vehicle_col, y0 = vehicle_row, x1 = target.x, y1 = target.y;
-  const int dx = (int)abs(x1 - x0), sx = x0 < x1 ? 1 : -1;
-  const int dy = -(int)abs(y1 - y0), sy = y0 < y1 ? 1 : -1;
-  // host::CastRay's loop: every step advances the major axis by one cell, so the ray reaches
-  // the border cell after max(dx, -dy) steps; it stops earlier at the first not-free cell after
-  // the vehicle's own.
-  const int steps = max(dx, -dy);
-  int err = dx + dy;
-  int x = x0, y = y0;
-  for (int s = 0; s < steps; ++s) {
-    const int e2 = 2 * err;
-    if (e2 >= dy) {
-      err += dy;
-      x += sx;
-    }
-    if (e2 <= dx) {
-      err += dx;
-      y += sy;
-    }
-    if (!((free[y * BIT_WORDS + (x >> 6)] >> (x & 63)) & 1)) break;
-  }
-  stop[l] = y * WIDTH + x;
+  const int dx = target.x - vehicle_col, dy = target.y - vehicle_row;
+  stop[l] = InsightRay(free, vehicle_col, vehicle_row, abs(dx), abs(dy), dx < 0 ? -1 : 1,
+                       dy < 0 ? -1 : 1);
 }
