@@ -27,33 +27,37 @@
 
 ulong ClassifyValidBits(int w) { return w == BIT_WORDS - 1 ? CLASSIFY_LAST_WORD_BITS : ~0UL; }
 
-// Word w of a level bitset's row r (common.cl: two uint halves), 0 outside the map.
-ulong ClassifyLevelWord(__global const uint* level, int r, int w) {
-  if (r < 0 || r >= HEIGHT || w < 0 || w >= BIT_WORDS) return 0;
-  const int k = r * LEVEL_WORDS + 2 * w;
-  return (ulong)level[k] | ((ulong)level[k + 1] << 32);
-}
-
-// Strong bits of word w of rows r - 1 .. r + 1 OR'd together.
-ulong ClassifyNear(__global const uint* strong, int r, int w) {
-  return ClassifyLevelWord(strong, r - 1, w) | ClassifyLevelWord(strong, r, w) |
-         ClassifyLevelWord(strong, r + 1, w);
+// Word w of a level bitset row (common.cl: two uint halves; on a little-endian device they are
+// the ulong itself, and rows start at an even uint).
+ulong ClassifyLevelWord(__global const uint* row, int w) {
+#ifdef __ENDIAN_LITTLE__
+  return ((__global const ulong*)row)[w];
+#else
+  return (ulong)row[2 * w] | ((ulong)row[2 * w + 1] << 32);
+#endif
 }
 
 // Level bitsets -> free0 on words [w0, w1) of row r. Walks the words left to right carrying the
-// strong columns of the words left and right of the current one; the 8-neighbourhood is the
-// current column OR'd with its neighbours one bit left and right.
+// strong columns (rows r - 1 .. r + 1 OR'd) of the words left and right of the current one; the
+// 8-neighbourhood is the current column OR'd with its neighbours one bit left and right. A row
+// beyond the map's edge is replaced by row r itself, which adds nothing to the OR.
 void ClassifyHysteresis(__global const uint* strong, __global const uint* weak,
                         __global ulong* out, int r, int w0, int w1) {
-  ulong left = ClassifyNear(strong, r, w0 - 1), here = ClassifyNear(strong, r, w0);
+  __global const uint* s = strong + r * LEVEL_WORDS;
+  __global const uint* below = r > 0 ? s - LEVEL_WORDS : s;
+  __global const uint* above = r + 1 < HEIGHT ? s + LEVEL_WORDS : s;
+  __global const uint* k = weak + r * LEVEL_WORDS;
+#define CLASSIFY_NEAR(w)                                                              \
+  (ClassifyLevelWord(below, (w)) | ClassifyLevelWord(s, (w)) | ClassifyLevelWord(above, (w)))
+  ulong left = w0 > 0 ? CLASSIFY_NEAR(w0 - 1) : 0, here = CLASSIFY_NEAR(w0);
   for (int w = w0; w < w1; ++w) {
-    const ulong right = ClassifyNear(strong, r, w + 1);
+    const ulong right = w + 1 < BIT_WORDS ? CLASSIFY_NEAR(w + 1) : 0;
     const ulong spread = here | (here << 1) | (left >> 63) | (here >> 1) | (right << 63);
-    out[r * BIT_WORDS + w] =
-        ClassifyLevelWord(strong, r, w) | (ClassifyLevelWord(weak, r, w) & spread);
+    out[r * BIT_WORDS + w] = ClassifyLevelWord(s, w) | (ClassifyLevelWord(k, w) & spread);
     left = here;
     here = right;
   }
+#undef CLASSIFY_NEAR
 }
 
 // Bits c + d of `row` for the 64 columns c of word w, any d; 0 outside the row.

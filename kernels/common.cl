@@ -116,6 +116,8 @@ short16 ShiftedCells(__global const short* src, int r, int c0, int dx, int dy) {
   if (sr < 0 || sr >= HEIGHT) return (short16)(0);
   __global const uchar* bytes = (__global const uchar*)(src + CELL(sr, c0 + dx));
   const short16 old = (short16)(as_short8(vload16(0, bytes)), as_short8(vload16(1, bytes)));
+  // Every lane inside the map and its source inside the source row: nothing to clear.
+  if (c0 + dx >= 0 && c0 + dx + 16 <= WIDTH && c0 + 16 <= WIDTH) return old;
   const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   const int16 sc = lane + (int16)(c0 + dx);
   const int16 keep = (sc >= (int16)(0)) & (sc < (int16)(WIDTH)) & InsideLanes(c0);
