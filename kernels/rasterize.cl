@@ -22,7 +22,8 @@
 //
 // Build options: FIXED_BITS, UPDATE_NONE, UPDATE_FREE, UPDATE_OCCUPIED, L_FREE, L_OCCUPIED,
 // L_MIN, L_MAX, RASTER_GROUP (a power of two up to 256), RASTER_SERIAL (0 or 1), and those of
-// common.cl. Arguments after those of the row pass: the level bitsets (strong, weak).
+// common.cl. Arguments after those of the row pass: the level bitsets (strong, weak), the
+// source's level bitsets and whether to shift them (RasterMap).
 //
 // The job buffer, written by the host each scan: a header of 8 ints, job[0] vertex count n,
 // job[1] count m of occupied cells on the rasterized rows, job[2] first row r0, job[3] end row
@@ -153,14 +154,44 @@ short16 RasterFuse16(short16 m, uchar16 u, int c0) {
 
 // What the row pass does to the map besides writing the mask: nothing (src null), fuse in
 // place (src == dst), or shift src into dst by (dx, dy) and fuse there. Whenever it writes map
-// cells it also writes their level bits (common.cl, StoreLevels) for stage 3.
+// cells it also writes their level bits (strong, weak; common.cl) for stage 3: from the values
+// (StoreLevels), or, on rows it only shifts and with shift_levels set, by shifting src's level
+// bits (src_strong, src_weak) the same way, which the host allows when those are up to date and
+// an unknown cell is on no level.
 typedef struct {
   __global const short* src;
   __global short* dst;
   int dx, dy;
   __global uint* strong;
   __global uint* weak;
+  __global const uint* src_strong;
+  __global const uint* src_weak;
+  int shift_levels;
 } RasterMap;
+
+// Level uints [w0, w1) of row r (columns 32 w ..) of `dst` after the map shift by (dx, dy):
+// those of columns 32 w + dx .. of row r + dy of `src`, 0 where that cell is outside the map
+// and past the width. Source bits past the width are 0.
+void RasterShiftLevels(__global const uint* src, __global uint* dst, int r, int w0, int w1,
+                       int dx, int dy) {
+  __global uint* out = dst + r * LEVEL_WORDS;
+  const int sr = r + dy;
+  if (sr < 0 || sr >= HEIGHT) {
+    for (int w = w0; w < w1; ++w) out[w] = 0u;
+    return;
+  }
+  __global const uint* row = src + sr * LEVEL_WORDS;
+  // Column 32 w + dx is bit s of uint w + q.
+  const int q = dx >= 0 ? dx / 32 : -((31 - dx) / 32), s = dx - 32 * q;
+  for (int w = w0; w < w1; ++w) {
+    const int j = w + q;
+    const ulong lo = (j >= 0 && j < LEVEL_WORDS) ? row[j] : 0u;
+    const ulong hi = (j + 1 >= 0 && j + 1 < LEVEL_WORDS) ? row[j + 1] : 0u;
+    const uint v = (uint)(((hi << 32) | lo) >> s);
+    const int inside = WIDTH - 32 * w;  // at least 1: w is a word of the row
+    out[w] = inside >= 32 ? v : v & ((1u << inside) - 1u);
+  }
+}
 
 // Turns words [w0, w1) of row r into mask values; `fill` is all ones when the parity left of
 // word w0 is odd. Clears the words of both planes for the next scan, and fuses into the map.
@@ -198,6 +229,14 @@ void RasterWords(__global uint* toggles, __global uint* occupied, __global uchar
 
 // Words [w0, w1) of a row outside the rasterized rows while the map shifts: the shift only.
 void RasterShiftWords(RasterMap map, int r, int w0, int w1) {
+  if (map.shift_levels) {
+    for (int c0 = 32 * w0; c0 < 32 * w1; c0 += 16) {
+      *(__global short16*)(map.dst + CELL(r, c0)) = ShiftedCells(map.src, r, c0, map.dx, map.dy);
+    }
+    RasterShiftLevels(map.src_strong, map.strong, r, w0, w1, map.dx, map.dy);
+    RasterShiftLevels(map.src_weak, map.weak, r, w0, w1, map.dx, map.dy);
+    return;
+  }
   for (int c0 = 32 * w0; c0 < 32 * w1; c0 += 32) {
     const short16 m_lo = ShiftedCells(map.src, r, c0, map.dx, map.dy);
     const short16 m_hi = ShiftedCells(map.src, r, c0 + 16, map.dx, map.dy);
@@ -265,11 +304,12 @@ __kernel void rasterize_rows(__global const int* job, __global uint* toggles,
                              __global uint* occupied, __global uchar* update,
                              __global const short* src, __global short* dst, int dx, int dy,
                              int row_first, int row_end, __global uint* strong,
-                             __global uint* weak) {
+                             __global uint* weak, __global const uint* src_strong,
+                             __global const uint* src_weak, int shift_levels) {
   __local uint carry[RASTER_CARRY];
   int r;
   if (!RasterRowOf(row_first, row_end, &r)) return;
-  const RasterMap map = {src, dst, dx, dy, strong, weak};
+  const RasterMap map = {src, dst, dx, dy, strong, weak, src_strong, src_weak, shift_levels};
   RasterRow(job, toggles, occupied, update, map, r, carry);
 }
 
@@ -284,7 +324,8 @@ __kernel void rasterize_bands(__global const int* job, __global uint* toggles,
                               __global uint* occupied, __global uchar* update,
                               __global const short* src, __global short* dst, int dx, int dy,
                               int row_first, int row_end, int band, __global uint* strong,
-                              __global uint* weak) {
+                              __global uint* weak, __global const uint* src_strong,
+                              __global const uint* src_weak, int shift_levels) {
   const int b = get_global_id(0);
   const int ba = row_first + b * band, bb = min(ba + band, row_end);
   if (ba >= bb) return;
@@ -299,7 +340,7 @@ __kernel void rasterize_bands(__global const int* job, __global uint* toggles,
   if (b == 0) {
     for (int i = 0; i < job[4]; ++i) RasterOtherEcho(JOB_OTHER_CELLS(job)[i], update);
   }
-  const RasterMap map = {src, dst, dx, dy, strong, weak};
+  const RasterMap map = {src, dst, dx, dy, strong, weak, src_strong, src_weak, shift_levels};
   for (int r = ba; r < bb; ++r) RasterRow(job, toggles, occupied, update, map, r, 0);
 }
 #endif

@@ -134,7 +134,6 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   row_mask_ = MakeKernel(row_pass);
   insight_cast_ = MakeKernel("insight_cast");
   rays_cast_ = MakeKernel("rays_cast");
-  hysteresis_ = MakeKernel("classify_hysteresis_erode_rows");
   erode_dilate_ = MakeKernel("classify_erode_cols_dilate_rows");
   dilate_cols_ = MakeKernel("classify_dilate_cols");
   for (int k = 0; k < 2; ++k) {
@@ -142,6 +141,7 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     rays_fuse_[k] = MakeKernel("rays_fuse");
     levels_[k] = MakeKernel("classify_levels");
     shift_[k] = MakeKernel("shift_map");
+    hysteresis_[k] = MakeKernel("classify_hysteresis_erode_rows");
     row_fuse_[k][0] = MakeKernel(row_pass);
     row_fuse_[k][1] = MakeKernel(row_pass);
   }
@@ -162,8 +162,10 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   toggles_ = buffer(bit_words * 4);
   occupied_ = buffer(bit_words * 4);
   const std::size_t level_bytes = std::size_t(2 * BitWords()) * height * 4;
-  strong_ = buffer(level_bytes);
-  weak_ = buffer(level_bytes);
+  for (int k = 0; k < 2; ++k) {
+    strong_[k] = buffer(level_bytes);
+    weak_[k] = buffer(level_bytes);
+  }
   bits_a_ = buffer(mask_bytes);
   bits_b_ = buffer(mask_bytes);
   bits_c_ = buffer(mask_bytes);
@@ -182,8 +184,10 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   Fill(update_.get(), padded);
   Fill(toggles_.get(), bit_words * 4);
   Fill(occupied_.get(), bit_words * 4);
-  Fill(strong_.get(), level_bytes);
-  Fill(weak_.get(), level_bytes);
+  for (int k = 0; k < 2; ++k) {
+    Fill(strong_[k].get(), level_bytes);
+    Fill(weak_[k].get(), level_bytes);
+  }
   Fill(bits_a_.get(), mask_bytes);
   Fill(bits_b_.get(), mask_bytes);
   Fill(bits_c_.get(), mask_bytes);
@@ -196,27 +200,29 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   SetArg(edges, 2, occupied_.get());
   SetArg(edges, 3, update_.get());
   // The row pass: the mask only (no map), in place on map_[k], or map_[k] shifted into the
-  // other buffer.
+  // other buffer, with the level bitsets of the buffer it writes (and reads).
   const cl_mem no_map = nullptr;
+  const cl_uint levels_arg = bands_ ? 11 : 10;
   for (int k = 0; k < 2; ++k) {
     const cl_kernel kernels[3] = {row_mask_.get(), row_fuse_[k][0].get(), row_fuse_[k][1].get()};
     const cl_mem src[3] = {no_map, map_[k].get(), map_[k].get()};
     const cl_mem dst[3] = {no_map, map_[k].get(), map_[1 - k].get()};
+    const int to[3] = {k, k, 1 - k};
     for (int i = 0; i < 3; ++i) {
       SetArg(kernels[i], 1, toggles_.get());
       SetArg(kernels[i], 2, occupied_.get());
       SetArg(kernels[i], 3, update_.get());
       SetArg(kernels[i], 4, src[i]);
       SetArg(kernels[i], 5, dst[i]);
-      SetArg(kernels[i], bands_ ? 11 : 10, strong_.get());
-      SetArg(kernels[i], bands_ ? 12 : 11, weak_.get());
+      SetArg(kernels[i], levels_arg, strong_[to[i]].get());
+      SetArg(kernels[i], levels_arg + 1, weak_[to[i]].get());
+      SetArg(kernels[i], levels_arg + 2, strong_[k].get());
+      SetArg(kernels[i], levels_arg + 3, weak_[k].get());
+      SetArg(kernels[i], levels_arg + 4, cl_int(0));
     }
   }
+  unknown_off_levels_ = params.t_high < 0;
   SetArg(rays_cast_.get(), 1, delta_.get());
-  SetArg(hysteresis_.get(), 0, strong_.get());
-  SetArg(hysteresis_.get(), 1, weak_.get());
-  SetArg(hysteresis_.get(), 2, bits_a_.get());
-  SetArg(hysteresis_.get(), 3, bits_b_.get());
   SetArg(erode_dilate_.get(), 0, bits_b_.get());
   SetArg(erode_dilate_.get(), 1, bits_a_.get());
   SetArg(erode_dilate_.get(), 2, bits_c_.get());
@@ -230,8 +236,12 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     SetArg(rays_fuse_[k].get(), 0, map_[k].get());
     SetArg(rays_fuse_[k].get(), 1, delta_.get());
     SetArg(levels_[k].get(), 0, map_[k].get());
-    SetArg(levels_[k].get(), 1, strong_.get());
-    SetArg(levels_[k].get(), 2, weak_.get());
+    SetArg(levels_[k].get(), 1, strong_[k].get());
+    SetArg(levels_[k].get(), 2, weak_[k].get());
+    SetArg(hysteresis_[k].get(), 0, strong_[k].get());
+    SetArg(hysteresis_[k].get(), 1, weak_[k].get());
+    SetArg(hysteresis_[k].get(), 2, bits_a_.get());
+    SetArg(hysteresis_[k].get(), 3, bits_b_.get());
     SetArg(shift_[k].get(), 0, map_[k].get());
     SetArg(shift_[k].get(), 1, map_[1 - k].get());
   }
@@ -239,7 +249,7 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   // Work sizes. Global sizes are rounded up to whole work-groups; the kernels skip the extra
   // work-items, so no size has to divide the map.
   std::size_t most = max_group;
-  for (const cl_kernel k : {erode_dilate_.get(), dilate_cols_.get(), hysteresis_.get(),
+  for (const cl_kernel k : {erode_dilate_.get(), dilate_cols_.get(), hysteresis_[0].get(),
                             shift_[0].get(), fuse_[0].get(), rays_fuse_[0].get()}) {
     most = std::min(most, LocalSize(k, max_group));
   }
@@ -443,8 +453,9 @@ void OpenClBackend::Fuse(int row_begin, int row_end) {
     // The row pass, the pending shift (every row) or none (the rasterized rows), the fusion.
     opencl::Event event;
     if (shift_pending_) {
-      RowPass(row_fuse_[current_][1].get(), pending_dx_, pending_dy_, 0, params_.height,
-              event.out());
+      const cl_kernel kernel = row_fuse_[current_][1].get();
+      SetArg(kernel, bands_ ? 15 : 14, cl_int(levels_valid_ && unknown_off_levels_));
+      RowPass(kernel, pending_dx_, pending_dy_, 0, params_.height, event.out());
       levels_valid_ = true;  // it wrote every row
     } else {
       RowPass(row_fuse_[current_][0].get(), 0, 0, r0, r1, event.out());
@@ -503,10 +514,10 @@ void OpenClBackend::Classify() {
   const int height = params_.height;
   if (!levels_valid_) {
     BitsLaunch(levels_[current_].get(), height, begin.out());
-    BitsLaunch(hysteresis_.get(), height, nullptr);
+    BitsLaunch(hysteresis_[current_].get(), height, nullptr);
     levels_valid_ = true;
   } else {
-    BitsLaunch(hysteresis_.get(), height, begin.out());
+    BitsLaunch(hysteresis_[current_].get(), height, begin.out());
   }
   BitsLaunch(erode_dilate_.get(), height, nullptr);
   BitsLaunch(dilate_cols_.get(), height, end.out());

@@ -126,8 +126,8 @@ class OpenClBackend final : public Backend {
   opencl::Mem update_;            // stage 1 -> stage 2, uchar per cell
   opencl::Mem toggles_;           // stage 1 bit planes, one bit per cell, rows of whole words
   opencl::Mem occupied_;          //
-  opencl::Mem strong_;            // level bitsets of the map, stage 1 or 3 -> stage 3
-  opencl::Mem weak_;              //
+  opencl::Mem strong_[2];         // level bitsets of map_[k], stage 1 or 3 -> stage 3
+  opencl::Mem weak_[2];           //
   opencl::Mem bits_a_;            // stage 3 intermediates, bitsets (common.cl)
   opencl::Mem bits_b_;            //
   opencl::Mem bits_c_;            //
@@ -138,11 +138,11 @@ class OpenClBackend final : public Backend {
   std::size_t job_capacity_ = 0;  // ints
 
   opencl::Kernel rasterize_edges_, insight_cast_, rays_cast_;
-  opencl::Kernel hysteresis_, erode_dilate_, dilate_cols_;
-  std::array<opencl::Kernel, 2> fuse_, rays_fuse_, levels_, shift_;  // per map buffer
+  opencl::Kernel erode_dilate_, dilate_cols_;
+  std::array<opencl::Kernel, 2> fuse_, rays_fuse_, levels_, shift_, hysteresis_;  // per map buffer
   // The row pass of stage 1 (rasterize_rows, or rasterize_bands on a CPU): the mask only, and
   // per map buffer k with the fusion, [k][0] in place on map_[k], [k][1] shifting map_[k] into
-  // map_[1 - k] on the way.
+  // map_[1 - k] on the way (and the level bitsets of map_[k] into those of map_[1 - k]).
   opencl::Kernel row_mask_;
   std::array<std::array<opencl::Kernel, 2>, 2> row_fuse_;
 
@@ -154,10 +154,14 @@ class OpenClBackend final : public Backend {
   int pending_dx_ = 0, pending_dy_ = 0;
   bool rows_pending_ = false;
   int pending_begin_ = 0, pending_end_ = 0;
-  // True while strong_ / weak_ hold the level bits of the map: the row pass that fuses writes
-  // them for the rows it writes, so Classify() needs no pass over the map of its own unless
-  // the map changed some other way (a shift or fusion on its own, a fill, a write).
+  // True while strong_ / weak_ [current_] hold the level bits of the map: the row pass that
+  // fuses writes them for the rows it writes, so Classify() needs no pass over the map of its
+  // own unless the map changed some other way (a shift or fusion on its own, a fill, a write).
+  // The row pass that shifts then shifts the level bits of the rows it does not fuse instead of
+  // recomputing them from the map, which is exact when an unknown cell (0, what a shift brings
+  // in) is on no level: unknown_off_levels_.
   bool levels_valid_ = false;
+  bool unknown_off_levels_ = false;
 
   // Work sizes, fixed at construction.
   std::size_t row_items_ = 1;                     // work-items per row of kernels over cells

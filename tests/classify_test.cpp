@@ -148,6 +148,53 @@ TEST_P(ClassifyTest, HysteresisMatchesTheDefinitionOnRandomMaps) {
   }
 }
 
+// Classify() after shifts and fusions (the estimator's order, in which the OpenCL backend keeps
+// the level bits from pass to pass and shifts them with the map) gives the free mask of a fresh
+// classification of the same map.
+TEST_P(ClassifyTest, AfterShiftsAndFusionsEqualsAFreshClassification) {
+  std::mt19937 rng(29);
+  for (const auto& [width, height] :
+       std::vector<std::pair<int, int>>{{1, 1}, {5, 3}, {70, 33}, {130, 97}}) {
+    const KernelParams p = test::SmallParams(width, height, 1);
+    FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), p);
+    FREESPACE_BACKEND_OR_SKIP(fresh, GetParam(), p);
+    const std::size_t cells = std::size_t(width) * height;
+    std::vector<LogOdds> map(cells);
+    for (auto& m : map) m = LogOdds(int(rng() % 400) - 250);
+    backend->WriteLogOdds(map.data());
+    backend->Classify();
+    // A triangle on the second quarter of the rows (fixed point), and a few echoes in it.
+    const auto fixed = [](double cells) { return std::int32_t(std::lround(cells * kFixedOne)); };
+    const std::vector<std::int32_t> ring = {fixed(0.5 * width), fixed(0.26 * height),
+                                            fixed(0.9 * width), fixed(0.49 * height),
+                                            fixed(0.1 * width), fixed(0.45 * height)};
+    const int r0 = height / 4, r1 = std::max(r0 + 1, height / 2);
+    std::vector<std::int32_t> echoes;
+    for (int r = r0; r < r1; r += 3) echoes.push_back(r * width + (r * 7) % width);
+    RasterJob job;
+    job.vertices = ring.data();
+    job.vertex_count = 3;
+    job.occupied = echoes.data();
+    job.occupied_count = int(echoes.size());
+    job.row_begin = r0;
+    job.row_end = r1;
+    for (const auto& [dx, dy] : std::vector<std::pair<int, int>>{
+             {1, 0}, {0, -1}, {-33, 2}, {40, -5}, {3, 3}, {-1, -1}, {0, 0}, {65, 1}, {-64, 0}}) {
+      backend->Shift(dx, dy);
+      backend->Rasterize(job);
+      backend->Fuse(r0, r1);
+      backend->Classify();
+      std::vector<std::uint8_t> got(cells), want(cells);
+      backend->ReadFree(got.data());
+      backend->ReadLogOdds(map.data());
+      fresh->WriteLogOdds(map.data());
+      fresh->Classify();
+      fresh->ReadFree(want.data());
+      ASSERT_EQ(got, want) << width << "x" << height << " after shift " << dx << "," << dy;
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, ClassifyTest, ::testing::ValuesIn(test::AllBackends()),
                          test::BackendParamName);
 
