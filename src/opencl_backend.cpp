@@ -40,7 +40,7 @@ constexpr std::size_t kGpuGroup = 64;
 constexpr std::size_t kGpuRowGroup = 256;  // at most this many work-items for one row
 constexpr std::size_t kEdgeGroup = 16;     // rasterize_edges, rays_cast: uneven loop lengths
 constexpr std::size_t kCastGroup = 16;     // insight_cast
-constexpr std::size_t kBandsPerUnit = 4;   // rasterize_bands
+constexpr std::size_t kBandsPerUnit = 1;   // rasterize_bands
 constexpr std::size_t kMaxRasterGroup = 256;
 
 // Initial capacity of the job buffer, in ints: a ScaLa scan (581 beams, ~2000 echoes) fits.
@@ -434,8 +434,8 @@ void OpenClBackend::RowPass(cl_kernel kernel, int dx, int dy, int first, int end
   SetArg(kernel, 9, cl_int(end));
   const std::size_t rows = std::size_t(end - first);
   if (bands_) {
-    // A few bands per compute unit: enough to balance uneven bands, few enough that walking
-    // every edge per band stays cheap.
+    // One band per compute unit: every band walks every edge of the polygon (a ScaLa scan has
+    // over 2000), which costs more than the imbalance of uneven bands saves.
     const std::size_t bands = std::min<std::size_t>(rows, kBandsPerUnit * compute_units_);
     const std::size_t band = (rows + bands - 1) / bands;
     SetArg(kernel, 10, cl_int(band));
