@@ -87,6 +87,8 @@ void VisitFields(Config& c, Visitor&& v) {
   v.Enum("shape", c.polygon.shape, kPolygonShapeNames);
   v("max_vertices", c.polygon.max_vertices);
   v("epsilon_m", c.polygon.epsilon_m);
+  v("margin_cells", c.polygon.margin_cells);
+  v("margin_cone_deg", c.polygon.margin_cone_deg);
   v.Section("backend");
   v.Enum("kind", c.backend.kind, kBackendNames);
   v("threads", c.backend.threads);
@@ -308,6 +310,14 @@ void Config::Validate() const {
         c.polygon.max_vertices, "must be in [3, 4096]");
   Check(std::isfinite(c.polygon.epsilon_m) && c.polygon.epsilon_m >= 0, "polygon.epsilon_m",
         c.polygon.epsilon_m, "must be >= 0");
+  Check(c.polygon.margin_cells >= 0 && c.polygon.margin_cells <= 32, "polygon.margin_cells",
+        c.polygon.margin_cells, "must be in [0, 32]");
+  Check(c.polygon.margin_cells == 0 || c.polygon.shape == PolygonShape::kInside,
+        "polygon.margin_cells", c.polygon.margin_cells,
+        "needs polygon.shape inside (the paper's polygon follows C_Edge and has no margin)");
+  Check(std::isfinite(c.polygon.margin_cone_deg) && c.polygon.margin_cone_deg > 0 &&
+            c.polygon.margin_cone_deg <= 180,
+        "polygon.margin_cone_deg", c.polygon.margin_cone_deg, "must be in (0, 180]");
 
   Check(c.backend.threads >= 0 && c.backend.threads <= 1024, "backend.threads", c.backend.threads,
         "must be in [0, 1024] (0 = all cores)");

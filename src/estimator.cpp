@@ -1,6 +1,7 @@
 // The Estimator: the pipeline of DESIGN.md for one scan, in order: validate, preprocess,
 // align (vehicle on a circle, integer map shift), kernel stages 1-4 on the backend, then the
-// capped Douglas-Peucker polygon in world coordinates.
+// capped Douglas-Peucker polygon in world coordinates (for the inside polygon on the free mask
+// with the vehicle's cells and the safety margin).
 #include "freespace/estimator.hpp"
 
 #include <chrono>
@@ -49,6 +50,11 @@ Estimator::Estimator(const Config& config) : config_(config) {
         config_.polygon.epsilon_m / config_.map.resolution_m, config_.backend.threads);
     free_scan_.resize(std::size_t(config_.map.width_cells) * config_.map.height_cells);
     if (backend_->HostLogOdds() == nullptr) log_odds_scan_.resize(free_scan_.size());
+    if (config_.polygon.margin_cells > 0) {
+      margin_ = std::make_unique<PolygonMargin>(config_.map.width_cells, config_.map.height_cells,
+                                                config_.polygon.margin_cells,
+                                                config_.polygon.margin_cone_deg);
+    }
   }
   result_.polygon.reserve(config_.polygon.max_vertices);
   result_.polygon_cells.reserve(config_.polygon.max_vertices);
@@ -68,6 +74,16 @@ void Estimator::Reset() {
   backend_->Clear();
 }
 
+const LogOdds* Estimator::PolygonLogOdds() {
+  const LogOdds* log_odds = backend_->HostLogOdds();
+  if (log_odds != nullptr) return log_odds;
+  if (!log_odds_scan_read_) {
+    backend_->ReadLogOdds(log_odds_scan_.data());
+    log_odds_scan_read_ = true;
+  }
+  return log_odds_scan_.data();
+}
+
 // The opening removes free space narrower than the vehicle, and so the apex of the scans'
 // free wedge at the sensor, where the vehicle itself stands (on the first scans that is all
 // there is near it). For the conservative polygon the sensor's own cell is free (as it never
@@ -84,13 +100,8 @@ void Estimator::FreeWhereTheVehicleStands(const Vec2& sensor) {
     for (int c = std::max(0, col - h); c <= std::min(width - 1, col + h); ++c) {
       const std::size_t i = std::size_t(r) * width + c;
       if (free_scan_[i]) continue;
-      if (log_odds == nullptr) {  // only now: the map is read back from a device backend
-        log_odds = backend_->HostLogOdds();
-        if (log_odds == nullptr) {
-          backend_->ReadLogOdds(log_odds_scan_.data());
-          log_odds = log_odds_scan_.data();
-        }
-      }
+      // Only now: on a device backend the map is read back for this.
+      if (log_odds == nullptr) log_odds = PolygonLogOdds();
       if (log_odds[i] < 0) free_scan_[i] = 1;
     }
   }
@@ -258,7 +269,10 @@ const Result& Estimator::Process(const Scan& scan) {
   double error_cells = 0.0;
   if (inside_ != nullptr) {
     backend_->ReadFree(free_scan_.data());
+    log_odds_scan_read_ = false;
     FreeWhereTheVehicleStands(local);
+    // The margin after: it may keep out cells near the vehicle, but never the sensor's own.
+    if (margin_ != nullptr) margin_->Apply(PolygonLogOdds(), local, free_scan_.data());
     error_cells = inside_->Build(free_scan_.data(), local, &r.polygon_cells);
   } else {
     ring_.clear();

@@ -72,6 +72,31 @@ TEST(Config, ErrorsNameTheFieldAndTheValue) {
             std::string::npos);
 }
 
+TEST(Config, PolygonMarginIsValidatedAndKept) {
+  const Config defaults;
+  EXPECT_EQ(defaults.polygon.margin_cells, 0);  // the paper's polygon: no margin
+  const std::string inside = "polygon:\n  shape: inside\n";
+  EXPECT_EQ(ErrorOf(inside + "  margin_cells: 1\n  margin_cone_deg: 60\n"), "");
+  EXPECT_NE(ErrorOf(inside + "  margin_cells: -1\n").find("polygon.margin_cells = -1"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(inside + "  margin_cells: 33\n").find("polygon.margin_cells = 33"),
+            std::string::npos);
+  const std::string paper = ErrorOf("polygon:\n  margin_cells: 2\n");
+  EXPECT_NE(paper.find("polygon.margin_cells = 2"), std::string::npos) << paper;
+  EXPECT_NE(paper.find("polygon.shape inside"), std::string::npos) << paper;
+  EXPECT_NE(ErrorOf(inside + "  margin_cone_deg: 0\n").find("polygon.margin_cone_deg = 0"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(inside + "  margin_cone_deg: 181\n").find("polygon.margin_cone_deg = 181"),
+            std::string::npos);
+  Config c;
+  c.polygon.shape = PolygonShape::kInside;
+  c.polygon.margin_cells = 3;
+  c.polygon.margin_cone_deg = 45.5;
+  const Config back = Config::FromYaml(c.ToYaml());
+  EXPECT_EQ(back.polygon.margin_cells, 3);
+  EXPECT_DOUBLE_EQ(back.polygon.margin_cone_deg, 45.5);
+}
+
 TEST(Config, ThresholdsAgreeWithProbabilitiesOnEveryLogOdds) {
   for (const double t : {0.05, 0.3, 0.42, 0.48, 0.4999}) {
     const LogOdds threshold = LogOddsThreshold(t);

@@ -2,7 +2,7 @@
 // allocation per scan once warm, and the real Intel lab log with the polygon properties of the
 // issue (non-empty, at most N vertices, containing the vehicle, vertices where rays stopped,
 // and no not-free cell deep inside) for the paper's polygon, and for the conservative one: no
-// area at all on a not-free cell.
+// area at all on a not-free cell, nor, with a margin, on a cell next to an occupied one.
 #include <random>
 
 #include "host_backend.hpp"
@@ -295,6 +295,70 @@ TEST_P(EstimatorTest, IntelLabInsidePolygonsCoverFreeCellsOnly) {
   EXPECT_EQ(processed, 910);
   EXPECT_GT(checked, 50);
   // The sensor's own cell is free nearly always: then the polygon holds it.
+  EXPECT_GT(containing, 900);
+}
+
+TEST_P(EstimatorTest, IntelLabInsidePolygonMarginKeepsOffOccupiedCells) {
+  // The conservative polygon with a one-cell margin all around: no area on a cell within one
+  // cell of a cell the map holds occupied (the sensor's own cell aside), the vehicle inside as
+  // often as without it; and a margin of 0 changes nothing at all.
+  FREESPACE_REQUIRE_DATA("carmen/intel-corrected.log", path);
+  auto reader = OpenLog(path);
+  Config c;
+  c.backend.kind = GetParam();
+  c.sensor = reader->sensor();
+  c.classify.vehicle_width_m = 0.4;
+  c.polygon.shape = PolygonShape::kInside;
+  Config zero = c;
+  zero.polygon.margin_cone_deg = 60.0;  // no effect without cells
+  Config margin = c;
+  margin.polygon.margin_cells = 1;
+  FREESPACE_ESTIMATOR_OR_SKIP(reference, c);
+  FREESPACE_ESTIMATOR_OR_SKIP(same, zero);
+  FREESPACE_ESTIMATOR_OR_SKIP(estimator, margin);
+  Scan scan;
+  int processed = 0, containing = 0, checked = 0;
+  while (reader->Next(&scan)) {
+    if (processed < 300) {
+      const Result& a = reference->Process(scan);
+      const Result& b = same->Process(scan);
+      ASSERT_EQ(a.polygon_cells, b.polygon_cells) << "scan " << a.scan_index;
+    }
+    const Result& r = estimator->Process(scan);
+    if (r.status == ScanStatus::kRejected) continue;
+    ++processed;
+    ASSERT_GE(r.polygon.size(), 3u) << "scan " << r.scan_index;
+    ASSERT_LE(int(r.polygon.size()), c.polygon.max_vertices);
+    containing += r.polygon_contains_vehicle ? 1 : 0;
+    if (r.scan_index % 15 != 0) continue;
+    const MapView map = estimator->map();
+    sim::Polygon p(r.polygon_cells.begin(), r.polygon_cells.end());
+    const int sensor_col = int(std::floor(r.vehicle_cells.x()));
+    const int sensor_row = int(std::floor(r.vehicle_cells.y()));
+    double area = 0.0;
+    int near_cells = 0;
+    for (int row = 0; row < map.height; ++row) {
+      for (int col = 0; col < map.width; ++col) {
+        if (row == sensor_row && col == sensor_col) continue;
+        bool near = false;
+        for (int dr = -1; dr <= 1; ++dr) {
+          for (int dc = -1; dc <= 1; ++dc) {
+            const int rr = row + dr, cc = col + dc;
+            near |= rr >= 0 && cc >= 0 && rr < map.height && cc < map.width &&
+                    map.log_odds[rr * map.width + cc] > 0;
+          }
+        }
+        if (!near) continue;
+        ++near_cells;
+        area += sim::AreaInBox(p, col, row, col + 1, row + 1);
+      }
+    }
+    ASSERT_GT(near_cells, 0) << "scan " << r.scan_index;
+    ASSERT_LE(area, 1e-6) << "scan " << r.scan_index;
+    ++checked;
+  }
+  EXPECT_EQ(processed, 910);
+  EXPECT_GT(checked, 50);
   EXPECT_GT(containing, 900);
 }
 

@@ -110,6 +110,19 @@ TEST(Parity, IntelLabInsidePolygonEveryScan) {
   RunLog(path, IndoorInside, SensorModelKind::kEnhanced);
 }
 
+// The margin reads the map back from the device every scan and works on the host.
+Config IndoorInsideMargin(const SensorConfig& sensor) {
+  Config c = IndoorInside(sensor);
+  c.polygon.margin_cells = 1;
+  c.polygon.margin_cone_deg = 60.0;
+  return c;
+}
+
+TEST(Parity, IntelLabInsidePolygonMarginEveryScan) {
+  FREESPACE_REQUIRE_DATA("carmen/intel-corrected.log", path);
+  RunLog(path, IndoorInsideMargin, SensorModelKind::kEnhanced);
+}
+
 TEST(Parity, AcesBuildingEveryScan) {
   FREESPACE_REQUIRE_DATA("carmen/aces-corrected.log", path);
   RunLog(path, Indoor, SensorModelKind::kEnhanced);

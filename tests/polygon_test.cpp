@@ -2,7 +2,8 @@
 // vertices are kept first, the result stays within its reported error, and it keeps the
 // vehicle inside. The conservative polygon (polygon.shape inside) on random free masks: it
 // covers free cells only, is star-shaped around the sensor, has at most N vertices, and on an
-// open map is the whole rectangle its border rays reach.
+// open map is the whole rectangle its border rays reach. Its safety margin on hand-made maps:
+// exactly the cells within k of an occupied cell in the cone, never the sensor's own.
 #include "polygon.hpp"
 
 #include <random>
@@ -233,6 +234,167 @@ TEST(InsidePolygon, PullsACappedEdgeInFrontOfTheObstacleItCuts) {
     EXPECT_LE(north, 10.0 + 1e-9) << "N " << n;
     EXPECT_GT(north, 5.5) << "N " << n;
   }
+}
+
+// A hand-made map as rows of text, the top line the northern row: '.' free, '#' occupied
+// (log-odds above 0, not free), 'o' the sensor's cell (free), 'x' free but expected to be kept
+// out by the margin. Fills the free mask (with 'x' free), the log-odds and the expected mask.
+struct TextMap {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> free, expected;
+  std::vector<LogOdds> log_odds;
+  Vec2 sensor;
+  explicit TextMap(const std::vector<std::string>& rows) {
+    height = int(rows.size());
+    width = int(rows[0].size());
+    free.assign(std::size_t(width) * height, 1);
+    expected = free;
+    log_odds.assign(free.size(), LogOdds{-100});
+    for (int r = 0; r < height; ++r) {
+      for (int c = 0; c < width; ++c) {
+        const char t = rows[height - 1 - r][c];
+        const std::size_t i = std::size_t(r) * width + c;
+        if (t == '#') free[i] = expected[i] = 0, log_odds[i] = 100;
+        if (t == 'x') expected[i] = 0;
+        if (t == 'o') sensor = Vec2(c + 0.5, r + 0.5);
+      }
+    }
+  }
+};
+
+TEST(PolygonMargin, KeepsOutTheCellsInFrontOfAWallAsTheSensorSeesIt) {
+  // A wall three rows north of the sensor: with a 60 deg cone the cells in front of it go;
+  // those beside its ends (which see it at 90 deg or more) and those behind it stay.
+  TextMap cone({
+      ".........",
+      "..#####..",
+      "..xxxxx..",
+      ".........",
+      ".........",
+      "....o....",
+  });
+  std::vector<std::uint8_t> free = cone.free;
+  PolygonMargin(cone.width, cone.height, 1, 60.0)
+      .Apply(cone.log_odds.data(), cone.sensor, free.data());
+  EXPECT_EQ(free, cone.expected);
+  // All around (180 deg): every free cell within one cell of the wall.
+  TextMap all({
+      ".xxxxxxx.",
+      ".x#####x.",
+      ".xxxxxxx.",
+      ".........",
+      ".........",
+      "....o....",
+  });
+  free = all.free;
+  PolygonMargin(all.width, all.height, 1, 180.0)
+      .Apply(all.log_odds.data(), all.sensor, free.data());
+  EXPECT_EQ(free, all.expected);
+  // Two cells, 60 deg: the second row in front too; the cells diagonally beyond the wall's
+  // ends still see it at more than 60 deg.
+  TextMap two({
+      ".........",
+      "..#####..",
+      "..xxxxx..",
+      "..xxxxx..",
+      ".........",
+      "....o....",
+  });
+  free = two.free;
+  PolygonMargin(two.width, two.height, 2, 60.0).Apply(two.log_odds.data(), two.sensor, free.data());
+  EXPECT_EQ(free, two.expected);
+}
+
+TEST(PolygonMargin, TheSensorsOwnCellStaysAndThePolygonHoldsTheVehicle) {
+  // An occupied cell right next to the sensor: its own cell stays free, the polygon is not
+  // empty and contains the sensor.
+  TextMap map({
+      "..........",
+      "..........",
+      ".....#....",
+      "....o.....",
+      "..........",
+  });
+  for (const double cone : {60.0, 180.0}) {
+    std::vector<std::uint8_t> free = map.free;
+    PolygonMargin(map.width, map.height, 1, cone)
+        .Apply(map.log_odds.data(), map.sensor, free.data());
+    const std::size_t own = std::size_t(std::floor(map.sensor.y())) * map.width +
+                            std::size_t(std::floor(map.sensor.x()));
+    EXPECT_TRUE(free[own]) << "cone " << cone;
+    InsidePolygonBuilder builder(map.width, map.height, 32, 0.0);
+    std::vector<Vec2> polygon;
+    builder.Build(free.data(), map.sensor, &polygon);
+    EXPECT_TRUE(PointInPolygon(polygon, map.sensor)) << "cone " << cone;
+    EXPECT_GT(std::abs(sim::SignedArea(polygon)), 1.0) << "cone " << cone;
+    EXPECT_LE(AreaOnNotFree(polygon, free, map.width, map.height), 1e-9) << "cone " << cone;
+  }
+}
+
+TEST(PolygonMargin, PolygonCoversNoFreeCellWithinTheMarginOfAnOccupiedCell) {
+  // Random maps, every not-free cell occupied: with the margin all around, the polygon has no
+  // area on any cell within k cells of an occupied one (but the sensor's own); the cells the
+  // margin keeps out are exactly those.
+  std::mt19937 rng(11);
+  int checked = 0;
+  for (int trial = 0; trial < 120; ++trial) {
+    const int width = 16 + int(rng() % 30), height = 16 + int(rng() % 30);
+    const std::vector<std::uint8_t> mask = RandomMask(width, height, &rng);
+    std::vector<LogOdds> log_odds(mask.size());
+    for (std::size_t i = 0; i < mask.size(); ++i) log_odds[i] = mask[i] ? -50 : 50;
+    std::uniform_real_distribution<double> x(1.0, width - 1.0), y(1.0, height - 1.0);
+    const Vec2 sensor(x(rng), y(rng));
+    const int sc = int(std::floor(sensor.x())), sr = int(std::floor(sensor.y()));
+    const int k = 1 + trial % 3;
+    std::vector<std::uint8_t> free = mask;
+    PolygonMargin(width, height, k, 180.0).Apply(log_odds.data(), sensor, free.data());
+    std::vector<std::uint8_t> near(mask.size(), 0);  // within k of an occupied cell
+    for (int r = 0; r < height; ++r) {
+      for (int c = 0; c < width; ++c) {
+        for (int dr = -k; dr <= k; ++dr) {
+          for (int dc = -k; dc <= k; ++dc) {
+            const int rr = r + dr, cc = c + dc;
+            if (rr >= 0 && cc >= 0 && rr < height && cc < width &&
+                log_odds[std::size_t(rr) * width + cc] > 0) {
+              near[std::size_t(r) * width + c] = 1;
+            }
+          }
+        }
+      }
+    }
+    const std::string where = "trial " + std::to_string(trial);
+    for (int r = 0; r < height; ++r) {
+      for (int c = 0; c < width; ++c) {
+        const std::size_t i = std::size_t(r) * width + c;
+        const bool own = r == sr && c == sc;
+        ASSERT_EQ(free[i], mask[i] && (!near[i] || own)) << where << " cell " << r << "," << c;
+      }
+    }
+    if (!free[std::size_t(sr) * width + sc]) continue;
+    InsidePolygonBuilder builder(width, height, std::vector<int>{8, 32, 4096}[trial % 3], 0.5);
+    std::vector<Vec2> polygon;
+    builder.Build(free.data(), sensor, &polygon);
+    std::vector<std::uint8_t> allowed(mask.size());
+    for (std::size_t i = 0; i < mask.size(); ++i) allowed[i] = mask[i] && !near[i];
+    allowed[std::size_t(sr) * width + sc] = 1;
+    EXPECT_LE(AreaOnNotFree(polygon, allowed, width, height), 1e-6) << where;
+    EXPECT_TRUE(PointInPolygon(polygon, sensor)) << where;
+    ++checked;
+  }
+  EXPECT_GT(checked, 60);
+}
+
+TEST(PolygonMargin, NothingOccupiedNothingKeptOut) {
+  // Not-free cells that the map does not hold occupied (unknown, or free evidence the
+  // hysteresis or the opening left out) give no margin.
+  std::mt19937 rng(5);
+  const int width = 40, height = 30;
+  const std::vector<std::uint8_t> mask = RandomMask(width, height, &rng);
+  std::vector<LogOdds> log_odds(mask.size());
+  for (std::size_t i = 0; i < mask.size(); ++i) log_odds[i] = mask[i] ? -50 : (i % 2 ? 0 : -5);
+  std::vector<std::uint8_t> free = mask;
+  PolygonMargin(width, height, 3, 180.0).Apply(log_odds.data(), Vec2(20.5, 15.5), free.data());
+  EXPECT_EQ(free, mask);
 }
 
 }  // namespace

@@ -94,6 +94,13 @@ struct PolygonConfig {
   PolygonShape shape = PolygonShape::kPaper;
   int max_vertices = 32;   // N; 3 .. 4096
   double epsilon_m = 0.2;  // tolerance; >= 0
+  // Safety margin of the inside polygon (not in the paper; 0 = none): a free cell is kept out
+  // of the polygon when a cell the map holds occupied (log-odds above 0) lies within
+  // margin_cells of it (Chebyshev) and beyond it as seen from the sensor, within
+  // margin_cone_deg of the line of sight through it (180: all around). The sensor's own cell
+  // stays free. 0 .. 32 cells, needs shape inside; cone (0, 180] degrees.
+  int margin_cells = 0;
+  double margin_cone_deg = 180.0;
 };
 
 enum class BackendKind { kTbb, kOpenCl, kAuto };

@@ -114,6 +114,7 @@ class CircleAligner;
 class MapWarper;
 class PolygonSimplifier;
 class InsidePolygonBuilder;
+class PolygonMargin;
 
 class Estimator {
  public:
@@ -149,6 +150,10 @@ class Estimator {
   std::unique_ptr<InsidePolygonBuilder> inside_;  // polygon.shape inside only
   std::vector<std::uint8_t> free_scan_;           // the free mask for it, read back every scan
   std::vector<LogOdds> log_odds_scan_;            // the map, read back when it is needed there
+  bool log_odds_scan_read_ = false;               // log_odds_scan_ holds this scan's map
+  std::unique_ptr<PolygonMargin> margin_;         // polygon.margin_cells > 0 only
+  // The map on the host for the polygon stage; on a device backend read back once per scan.
+  const LogOdds* PolygonLogOdds();
   void FreeWhereTheVehicleStands(const Vec2& sensor);
   Result result_;
   std::uint64_t scans_ = 0;
