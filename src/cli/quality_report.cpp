@@ -48,9 +48,9 @@ void PrintQuality(std::ostream& out, const nlohmann::json& s) {
                 Get(s, "false_free_mask_rate", "pooled"));
   out << line;
   std::snprintf(line, sizeof line,
-                "  polygon intrusion, cells        mean %.3f m2  median %.3f  p95 %.3f  max %.3f   "
-                "aim < 0.04 m2   (moving obstacles' cells: mean %.3f m2; cells the free mask "
-                "calls free: mean %.3f m2)\n",
+                "  polygon intrusion, cells        mean %.4f m2  median %.3f  p95 %.3f  max %.3f   "
+                "aim < 0.04 m2   (moving obstacles' cells: mean %.4f m2; cells the free mask "
+                "calls free: mean %.4f m2)\n",
                 Get(s, "intrusion_m2", "mean"), Get(s, "intrusion_m2", "median"),
                 Get(s, "intrusion_m2", "p95"), Get(s, "intrusion_m2", "max"),
                 Get(s, "intrusion_moving_m2", "mean"), Get(s, "intrusion_mask_m2", "mean"));
