@@ -41,13 +41,13 @@ ulong ClassifyLevelWord(__global const uint* row, int w) {
 // strong columns (rows r - 1 .. r + 1 OR'd) of the words left and right of the current one; the
 // 8-neighbourhood is the current column OR'd with its neighbours one bit left and right. A row
 // beyond the map's edge is replaced by row r itself, which adds nothing to the OR.
-void ClassifyHysteresis(__global const uint* strong, __global const uint* weak,
-                        __global ulong* out, int r, int w0, int w1) {
+void ClassifyHysteresis(__global const uint* strong, __global const uint* weak, __global ulong* out,
+                        int r, int w0, int w1) {
   __global const uint* s = strong + r * LEVEL_WORDS;
   __global const uint* below = r > 0 ? s - LEVEL_WORDS : s;
   __global const uint* above = r + 1 < HEIGHT ? s + LEVEL_WORDS : s;
   __global const uint* k = weak + r * LEVEL_WORDS;
-#define CLASSIFY_NEAR(w)                                                              \
+#define CLASSIFY_NEAR(w) \
   (ClassifyLevelWord(below, (w)) | ClassifyLevelWord(s, (w)) | ClassifyLevelWord(above, (w)))
   ulong left = w0 > 0 ? CLASSIFY_NEAR(w0 - 1) : 0, here = CLASSIFY_NEAR(w0);
   for (int w = w0; w < w1; ++w) {
@@ -73,20 +73,20 @@ ulong ClassifyShifted(__global const ulong* row, int w, int d) {
 
 // AND (erode) or OR (dilate) of word w of `row` shifted by -OPENING_RADIUS .. OPENING_RADIUS
 // within the row.
-#define CLASSIFY_ROW_WINDOW(Name, op)                                    \
-  ulong Name(__global const ulong* row, int w) {                         \
-    const ulong x = row[w];                                              \
-    const ulong prev = w > 0 ? row[w - 1] : 0;                           \
-    const ulong next = w + 1 < BIT_WORDS ? row[w + 1] : 0;               \
-    ulong v = x;                                                         \
-    for (int d = 1; d <= OPENING_RADIUS; ++d) {                          \
-      if (d < 64) {                                                      \
+#define CLASSIFY_ROW_WINDOW(Name, op)                                              \
+  ulong Name(__global const ulong* row, int w) {                                   \
+    const ulong x = row[w];                                                        \
+    const ulong prev = w > 0 ? row[w - 1] : 0;                                     \
+    const ulong next = w + 1 < BIT_WORDS ? row[w + 1] : 0;                         \
+    ulong v = x;                                                                   \
+    for (int d = 1; d <= OPENING_RADIUS; ++d) {                                    \
+      if (d < 64) {                                                                \
         v = v op((x >> d) | (next << (64 - d))) op((x << d) | (prev >> (64 - d))); \
-      } else {                                                           \
-        v = v op ClassifyShifted(row, w, d) op ClassifyShifted(row, w, -d); \
-      }                                                                  \
-    }                                                                    \
-    return v;                                                            \
+      } else {                                                                     \
+        v = v op ClassifyShifted(row, w, d) op ClassifyShifted(row, w, -d);        \
+      }                                                                            \
+    }                                                                              \
+    return v;                                                                      \
   }
 CLASSIFY_ROW_WINDOW(ClassifyErodeRow, &)
 CLASSIFY_ROW_WINDOW(ClassifyDilateRow, |)
@@ -105,9 +105,8 @@ __kernel void classify_levels(__global const short* map, __global uint* strong,
   }
 }
 
-__kernel void classify_hysteresis_erode_rows(__global const uint* strong,
-                                             __global const uint* weak, __global ulong* a,
-                                             __global ulong* b) {
+__kernel void classify_hysteresis_erode_rows(__global const uint* strong, __global const uint* weak,
+                                             __global ulong* a, __global ulong* b) {
   const int r = get_global_id(1);
   int w0, w1;
   const bool active = r < HEIGHT && RowWords(&w0, &w1);

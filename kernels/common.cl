@@ -80,8 +80,8 @@ uint PackBits32(short16 lo, short16 hi) {
   return (uint)(y.x | y.y);
 #else
   // Any byte order: one weight per lane, OR-reduced.
-  const ushort16 weight = (ushort16)(1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096,
-                                     8192, 16384, 32768);
+  const ushort16 weight =
+      (ushort16)(1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384, 32768);
   const ushort16 q[2] = {as_ushort16(lo) & weight, as_ushort16(hi) & weight};
   uint bits = 0;
   for (int j = 0; j < 2; ++j) {

@@ -172,8 +172,8 @@ typedef struct {
 // Level uints [w0, w1) of row r (columns 32 w ..) of `dst` after the map shift by (dx, dy):
 // those of columns 32 w + dx .. of row r + dy of `src`, 0 where that cell is outside the map
 // and past the width. Source bits past the width are 0.
-void RasterShiftLevels(__global const uint* src, __global uint* dst, int r, int w0, int w1,
-                       int dx, int dy) {
+void RasterShiftLevels(__global const uint* src, __global uint* dst, int r, int w0, int w1, int dx,
+                       int dy) {
   __global uint* out = dst + r * LEVEL_WORDS;
   const int sr = r + dy;
   if (sr < 0 || sr >= HEIGHT) {
@@ -303,9 +303,9 @@ bool RasterRowOf(int row_first, int row_end, int* r) {
 __kernel void rasterize_rows(__global const int* job, __global uint* toggles,
                              __global uint* occupied, __global uchar* update,
                              __global const short* src, __global short* dst, int dx, int dy,
-                             int row_first, int row_end, __global uint* strong,
-                             __global uint* weak, __global const uint* src_strong,
-                             __global const uint* src_weak, int shift_levels) {
+                             int row_first, int row_end, __global uint* strong, __global uint* weak,
+                             __global const uint* src_strong, __global const uint* src_weak,
+                             int shift_levels) {
   __local uint carry[RASTER_CARRY];
   int r;
   if (!RasterRowOf(row_first, row_end, &r)) return;

@@ -201,14 +201,20 @@ std::vector<CellIndex> ReferenceEdges(const MapView& map, CellIndex vehicle) {
   return edges;
 }
 
+// The Intel lab setup: the log's sensor, a narrow robot, the given backend and polygon shape.
+Config IntelConfig(const SensorConfig& sensor, BackendKind kind, PolygonShape shape) {
+  Config c;
+  c.backend.kind = kind;
+  c.sensor = sensor;
+  c.classify.vehicle_width_m = 0.4;
+  c.polygon.shape = shape;
+  return c;
+}
+
 TEST_P(EstimatorTest, IntelLabPolygonsHoldTheirProperties) {
   FREESPACE_REQUIRE_DATA("carmen/intel-corrected.log", path);
   auto reader = OpenLog(path);
-  Config c;
-  c.backend.kind = GetParam();
-  c.sensor = reader->sensor();
-  c.classify.vehicle_width_m = 0.4;
-  c.polygon.shape = PolygonShape::kPaper;
+  const Config c = IntelConfig(reader->sensor(), GetParam(), PolygonShape::kPaper);
   FREESPACE_ESTIMATOR_OR_SKIP(estimator, c);
   Scan scan;
   int processed = 0, checked_cells = 0;
@@ -251,11 +257,7 @@ TEST_P(EstimatorTest, IntelLabPolygonsHoldTheirProperties) {
 TEST_P(EstimatorTest, IntelLabInsidePolygonsCoverFreeCellsOnly) {
   FREESPACE_REQUIRE_DATA("carmen/intel-corrected.log", path);
   auto reader = OpenLog(path);
-  Config c;
-  c.backend.kind = GetParam();
-  c.sensor = reader->sensor();
-  c.classify.vehicle_width_m = 0.4;
-  c.polygon.shape = PolygonShape::kInside;
+  const Config c = IntelConfig(reader->sensor(), GetParam(), PolygonShape::kInside);
   FREESPACE_ESTIMATOR_OR_SKIP(estimator, c);
   Scan scan;
   int processed = 0, containing = 0, checked = 0;
@@ -304,11 +306,7 @@ TEST_P(EstimatorTest, IntelLabInsidePolygonMarginKeepsOffOccupiedCells) {
   // often as without it; and a margin of 0 changes nothing at all.
   FREESPACE_REQUIRE_DATA("carmen/intel-corrected.log", path);
   auto reader = OpenLog(path);
-  Config c;
-  c.backend.kind = GetParam();
-  c.sensor = reader->sensor();
-  c.classify.vehicle_width_m = 0.4;
-  c.polygon.shape = PolygonShape::kInside;
+  const Config c = IntelConfig(reader->sensor(), GetParam(), PolygonShape::kInside);
   Config zero = c;
   zero.polygon.margin_cone_deg = 60.0;  // no effect without cells
   Config margin = c;
