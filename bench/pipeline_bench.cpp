@@ -1,6 +1,7 @@
 // The full pipeline, one Estimator::Process() per iteration, per backend and map size, on real
 // logs: the Intel lab (180-beam SICK, replayed in order) and a KITTI frame cut into a
-// ScaLa-like 4-layer scan (repeated with advancing time).
+// ScaLa-like 4-layer scan (repeated with advancing time). BM_OpenClWait*: the OpenCL backend
+// with each backend.opencl_wait.
 #include <cstdlib>
 
 #include "bench_util.hpp"
@@ -8,7 +9,8 @@
 namespace freespace::bench {
 namespace {
 
-void RunPipeline(benchmark::State& state, const std::string& log, bool indoor) {
+void RunPipeline(benchmark::State& state, const std::string& log, bool indoor, BackendKind kind,
+                 OpenClWait wait) {
   SensorConfig sensor;
   const std::vector<Scan> scans = LoadScans(log, &sensor);
   if (scans.empty()) {
@@ -16,12 +18,14 @@ void RunPipeline(benchmark::State& state, const std::string& log, bool indoor) {
     return;
   }
   Config config;
-  config.backend.kind = BackendKind(state.range(0));
+  config.backend.kind = kind;
+  config.backend.opencl_wait = wait;
   // FREESPACE_BENCH_THREADS: TBB worker threads (backend.threads; unset or 0 = all cores).
   if (const char* env = std::getenv("FREESPACE_BENCH_THREADS")) {
     config.backend.threads = std::atoi(env);
   }
-  config.map.width_cells = config.map.height_cells = int(state.range(1));
+  const int cells = int(state.range(1));
+  config.map.width_cells = config.map.height_cells = cells;
   config.sensor = sensor;
   if (indoor) config.classify.vehicle_width_m = 0.4;
   std::unique_ptr<Estimator> estimator;
@@ -31,8 +35,10 @@ void RunPipeline(benchmark::State& state, const std::string& log, bool indoor) {
     state.SkipWithError(e.what());
     return;
   }
-  state.SetLabel(estimator->backend_name() + " " + std::to_string(state.range(1)) + "x" +
-                 std::to_string(state.range(1)));
+  std::string label =
+      estimator->backend_name() + " " + std::to_string(cells) + "x" + std::to_string(cells);
+  if (kind == BackendKind::kOpenCl) label += std::string(" wait ") + ToString(wait);
+  state.SetLabel(label);
   std::size_t next = 0;
   double t = 0.0;
   StageTimes sum;
@@ -69,11 +75,23 @@ void RunPipeline(benchmark::State& state, const std::string& log, bool indoor) {
   state.counters["poly"] = mean(sum.polygon_us);
 }
 
+constexpr const char* kIntel = "carmen/intel-corrected.log";
+constexpr const char* kKitti = "kitti/kitti_00_000000.bin";
+
+// The default config (OpenCL waits as `auto` does), backend 0 TBB, 1 OpenCL.
 void BM_PipelineIntel(benchmark::State& state) {
-  RunPipeline(state, "carmen/intel-corrected.log", true);
+  RunPipeline(state, kIntel, true, BackendKind(state.range(0)), OpenClWait::kAuto);
 }
 void BM_PipelineKitti(benchmark::State& state) {
-  RunPipeline(state, "kitti/kitti_00_000000.bin", false);
+  RunPipeline(state, kKitti, false, BackendKind(state.range(0)), OpenClWait::kAuto);
+}
+
+// The OpenCL backend per backend.opencl_wait: 0 auto, 1 block, 2 spin.
+void BM_OpenClWaitIntel(benchmark::State& state) {
+  RunPipeline(state, kIntel, true, BackendKind::kOpenCl, OpenClWait(state.range(0)));
+}
+void BM_OpenClWaitKitti(benchmark::State& state) {
+  RunPipeline(state, kKitti, false, BackendKind::kOpenCl, OpenClWait(state.range(0)));
 }
 
 void Sizes(benchmark::internal::Benchmark* b) {
@@ -83,8 +101,17 @@ void Sizes(benchmark::internal::Benchmark* b) {
   b->ArgNames({"backend", "cells"})->Unit(benchmark::kMicrosecond);
 }
 
+void Waits(benchmark::internal::Benchmark* b) {
+  for (const int wait : {0, 1, 2}) {
+    for (const int cells : {300, 1500}) b->Args({wait, cells});
+  }
+  b->ArgNames({"wait", "cells"})->Unit(benchmark::kMicrosecond);
+}
+
 BENCHMARK(BM_PipelineIntel)->Apply(Sizes);
 BENCHMARK(BM_PipelineKitti)->Apply(Sizes);
+BENCHMARK(BM_OpenClWaitIntel)->Apply(Waits);
+BENCHMARK(BM_OpenClWaitKitti)->Apply(Waits);
 
 }  // namespace
 }  // namespace freespace::bench

@@ -30,6 +30,8 @@ constexpr EnumName<PolygonShape> kPolygonShapeNames[] = {{PolygonShape::kPaper, 
                                                          {PolygonShape::kInside, "inside"}};
 constexpr EnumName<BackendKind> kBackendNames[] = {
     {BackendKind::kTbb, "tbb"}, {BackendKind::kOpenCl, "opencl"}, {BackendKind::kAuto, "auto"}};
+constexpr EnumName<OpenClWait> kOpenClWaitNames[] = {
+    {OpenClWait::kAuto, "auto"}, {OpenClWait::kBlock, "block"}, {OpenClWait::kSpin, "spin"}};
 
 template <class Enum, std::size_t N>
 const char* NameOf(const EnumName<Enum> (&names)[N], Enum value) {
@@ -94,6 +96,8 @@ void VisitFields(Config& c, Visitor&& v) {
   v("threads", c.backend.threads);
   v("opencl_platform", c.backend.opencl_platform);
   v("opencl_device", c.backend.opencl_device);
+  v.Enum("opencl_wait", c.backend.opencl_wait, kOpenClWaitNames);
+  v("opencl_spin_us", c.backend.opencl_spin_us);
 }
 
 class YamlReader {
@@ -321,6 +325,8 @@ void Config::Validate() const {
 
   Check(c.backend.threads >= 0 && c.backend.threads <= 1024, "backend.threads", c.backend.threads,
         "must be in [0, 1024] (0 = all cores)");
+  Check(c.backend.opencl_spin_us >= 0 && c.backend.opencl_spin_us <= 100000,
+        "backend.opencl_spin_us", c.backend.opencl_spin_us, "must be in [0, 100000]");
 }
 
 Config Config::FromYaml(const std::string& yaml_text, const std::string& source) {
@@ -387,6 +393,7 @@ std::vector<std::string> YamlSections(const std::string& yaml_text) {
 const char* ToString(SensorModelKind kind) { return NameOf(kSensorModelNames, kind); }
 const char* ToString(AlignmentKind kind) { return NameOf(kAlignmentNames, kind); }
 const char* ToString(BackendKind kind) { return NameOf(kBackendNames, kind); }
+const char* ToString(OpenClWait wait) { return NameOf(kOpenClWaitNames, wait); }
 const char* ToString(PolygonShape shape) { return NameOf(kPolygonShapeNames, shape); }
 
 }  // namespace freespace

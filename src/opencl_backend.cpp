@@ -4,6 +4,7 @@
 #include "opencl_backend.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <climits>
 #include <cstdint>
 #include <cstdio>
@@ -25,6 +26,15 @@ std::size_t RoundUp(std::size_t n, std::size_t multiple) {
 template <typename T>
 void SetArg(cl_kernel kernel, cl_uint index, const T& value) {
   Check(clSetKernelArg(kernel, index, sizeof(T), &value), "clSetKernelArg");
+}
+
+// One step of a spin-wait: tells the core that the thread is only polling.
+inline void CpuRelax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#elif defined(__aarch64__)
+  asm volatile("yield");
+#endif
 }
 
 // A second reference to `event`, for a stage whose first command is also its last.
@@ -80,7 +90,9 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
                              WorkShape shape)
     : Backend(params),
       device_(opencl::DeviceContext::Get(opencl::ChooseDevice(config))),
-      name_("opencl: " + device_->choice().device_name) {
+      name_("opencl: " + device_->choice().device_name),
+      wait_(config.opencl_wait),
+      spin_us_(config.opencl_spin_us) {
   const int width = params.width, height = params.height, h = params.opening_radius;
   if (width < 1 || height < 1 || h < 0) {
     throw BackendError("backend opencl: bad map size " + std::to_string(width) + " x " +
@@ -531,9 +543,10 @@ void OpenClBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
   SetArg(cast, 3, cl_int(vehicle.row));
   opencl::Event begin, end;
   Launch(cast, 1, &cast_global_, &cast_local_, begin.out());
-  Check(clEnqueueReadBuffer(queue_.get(), stop_.get(), CL_TRUE, 0, stop_host_.size() * 4,
+  Check(clEnqueueReadBuffer(queue_.get(), stop_.get(), CL_FALSE, 0, stop_host_.size() * 4,
                             stop_host_.data(), 0, nullptr, end.out()),
         "clEnqueueReadBuffer");
+  WaitForResult(end.get());
   SetStage(kInSightStage, std::move(begin), std::move(end));
   // C_Edge as host/insight.cpp builds it: T keeps the smallest label per stop cell (labels
   // run upwards, so the first to arrive), then the cells whose smallest label is this one.
@@ -548,6 +561,37 @@ void OpenClBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
     if (t[stop[l]] == l) edges->push_back({stop[l] / width, stop[l] % width});
   }
   for (int l = 0; l < labels; ++l) t[stop[l]] = INT32_MAX;
+}
+
+void OpenClBackend::WaitForResult(cl_event event) {
+  // A blocking wait puts this thread to sleep until a thread of the device's driver wakes it;
+  // on a CPU device that is one more thread to schedule, and the wake-up can cost more than a
+  // small map's whole scan. Spinning avoids it but keeps a core busy that the device's threads
+  // might use, so `auto` spins only while scans are short.
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  const auto waited_us = [&] {
+    return std::chrono::duration<double, std::micro>(Clock::now() - start).count();
+  };
+  const bool spin =
+      wait_ == OpenClWait::kSpin || (wait_ == OpenClWait::kAuto && typical_wait_us_ < spin_us_);
+  if (spin) {
+    Check(clFlush(queue_.get()), "clFlush");
+    cl_int status = CL_QUEUED;
+    for (unsigned i = 1;; ++i) {
+      Check(
+          clGetEventInfo(event, CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status, nullptr),
+          "clGetEventInfo");
+      if (status <= CL_COMPLETE) break;  // done, or failed (clWaitForEvents reports it)
+      CpuRelax();
+      if (wait_ == OpenClWait::kAuto && i % 64 == 0 && waited_us() >= spin_us_) break;
+    }
+  }
+  Check(clWaitForEvents(1, &event), "clWaitForEvents");
+  // A running mean over about the last 8 scans, so that one slow scan does not switch it.
+  const double waited = waited_us();
+  typical_wait_us_ =
+      typical_wait_us_ < 0 ? waited : typical_wait_us_ + (waited - typical_wait_us_) / 8;
 }
 
 void OpenClBackend::Shift(int dx, int dy) {

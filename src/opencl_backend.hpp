@@ -2,7 +2,8 @@
 // config (or the environment) chooses. The map and every per-scan buffer stay resident on the
 // device between scans; a scan uploads its raster (or ray) job and reads back only the stop
 // cells of the border rays, from which the host builds C_Edge.
-// Stages are enqueued without waiting; InSight() waits for its result, Finish() for everything.
+// Stages are enqueued without waiting; InSight() waits for its result (blocking or spinning, as
+// BackendConfig::opencl_wait says), Finish() for everything.
 // Bit-identical to the host backend (host/), which is its oracle in the tests.
 #pragma once
 
@@ -101,6 +102,8 @@ class OpenClBackend final : public Backend {
   void RowsLaunch(cl_kernel kernel, int rows, cl_event* event);
   void BitsLaunch(cl_kernel kernel, int rows, cl_event* event);
   void SetStage(Stage stage, opencl::Event begin, opencl::Event end);
+  // Waits for `event`, the last command of a scan, as BackendConfig::opencl_wait says.
+  void WaitForResult(cl_event event);
   // Enqueues the deferred shift and row pass on their own.
   void Flush();
   // Enqueues a row-pass kernel over rows [first, end) with a map shift of (dx, dy).
@@ -117,6 +120,9 @@ class OpenClBackend final : public Backend {
   int raster_group_ = 1;
   bool bands_ = false;  // stage 1 as rasterize_bands (the CPU shape)
   std::size_t compute_units_ = 1;
+  OpenClWait wait_ = OpenClWait::kAuto;
+  double spin_us_ = 0.0;         // BackendConfig::opencl_spin_us
+  double typical_wait_us_ = -1;  // WaitForResult()'s time, averaged over recent scans; -1 none
 
   // Device buffers, per-cell ones in the padded layout. The map lives in map_[current_]; the
   // shift writes the other one and flips current_. Kernels that touch the map exist once per

@@ -61,6 +61,10 @@ if [ $rc -eq 0 ]; then
   cmp "$out/tbb/polygons.jsonl" "$out/opencl/polygons.jsonl" \
     || fail "--backend opencl and --backend tbb wrote different polygons.jsonl"
   echo "cli: --backend opencl and --backend tbb wrote identical polygons.jsonl"
+  "$bin" run --log "$log" --out "$out/opencl-block" --backend opencl --opencl-wait block \
+    --snapshot-every 0 --quiet 2>/dev/null || fail "run --opencl-wait block failed"
+  cmp "$out/tbb/polygons.jsonl" "$out/opencl-block/polygons.jsonl" \
+    || fail "--opencl-wait block wrote different polygons.jsonl"
   "$bin" run --log "$log" --out "$out/auto" --backend auto --max-scans 3 --quiet \
     2>"$out/auto.err" || fail "run --backend auto failed"
   grep -q "backend auto: using opencl: " "$out/auto.err" \

@@ -37,12 +37,27 @@ TEST(Config, YamlRoundTripKeepsEveryField) {
   c.alignment.kind = AlignmentKind::kRotate;
   c.backend.kind = BackendKind::kAuto;
   c.backend.opencl_device = "pthread";
+  c.backend.opencl_wait = OpenClWait::kSpin;
+  c.backend.opencl_spin_us = 1234;
   c.polygon.epsilon_m = 0.123456789;
   const Config back = Config::FromYaml(c.ToYaml());
   EXPECT_EQ(back.ToYaml(), c.ToYaml());
   EXPECT_EQ(back.map.width_cells, 1500);
   EXPECT_EQ(back.sensor_model.kind, SensorModelKind::kConventional);
   EXPECT_DOUBLE_EQ(back.polygon.epsilon_m, 0.123456789);
+  EXPECT_EQ(back.backend.opencl_wait, OpenClWait::kSpin);
+  EXPECT_EQ(back.backend.opencl_spin_us, 1234);
+}
+
+TEST(Config, OpenClWaitNamesAndLimits) {
+  EXPECT_EQ(Config().backend.opencl_wait, OpenClWait::kAuto);
+  EXPECT_EQ(Config::FromYaml("backend:\n  opencl_wait: block\n").backend.opencl_wait,
+            OpenClWait::kBlock);
+  EXPECT_NE(ErrorOf("backend:\n  opencl_wait: sleep\n").find("backend.opencl_wait"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("backend:\n  opencl_spin_us: -1\n").find("backend.opencl_spin_us = -1"),
+            std::string::npos);
+  EXPECT_EQ(ErrorOf("backend:\n  opencl_spin_us: 0\n"), "");
 }
 
 TEST(Config, MissingFieldsKeepDefaults) {

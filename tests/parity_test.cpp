@@ -123,6 +123,29 @@ TEST(Parity, IntelLabInsidePolygonMarginEveryScan) {
   RunLog(path, IndoorInsideMargin, SensorModelKind::kEnhanced);
 }
 
+// How the host waits for the device's result must not change it: spinning reads the stop cells
+// only once the read-back is complete, as blocking does (the default, auto, is tested above).
+Config IndoorSpin(const SensorConfig& sensor) {
+  Config c = IndoorConfig(sensor);
+  c.backend.opencl_wait = OpenClWait::kSpin;
+  return c;
+}
+Config IndoorBlock(const SensorConfig& sensor) {
+  Config c = IndoorConfig(sensor);
+  c.backend.opencl_wait = OpenClWait::kBlock;
+  return c;
+}
+
+TEST(Parity, IntelLabEveryScanSpinning) {
+  FREESPACE_REQUIRE_DATA("carmen/intel-corrected.log", path);
+  RunLog(path, IndoorSpin, SensorModelKind::kEnhanced);
+}
+
+TEST(Parity, IntelLabEveryScanBlocking) {
+  FREESPACE_REQUIRE_DATA("carmen/intel-corrected.log", path);
+  RunLog(path, IndoorBlock, SensorModelKind::kEnhanced);
+}
+
 TEST(Parity, AcesBuildingEveryScan) {
   FREESPACE_REQUIRE_DATA("carmen/aces-corrected.log", path);
   RunLog(path, Indoor, SensorModelKind::kEnhanced);

@@ -105,11 +105,19 @@ struct PolygonConfig {
 
 enum class BackendKind { kTbb, kOpenCl, kAuto };
 
+// How the host waits for a scan's result from an OpenCL device (docs/opencl.md): blocking
+// (the thread sleeps until a thread of the driver wakes it), spinning (it polls the result,
+// keeping a core busy meanwhile), or auto: spinning while both the mean wait of the last scans
+// (about 8) and this scan's wait so far are under opencl_spin_us, blocking otherwise.
+enum class OpenClWait { kAuto, kBlock, kSpin };
+
 struct BackendConfig {
   BackendKind kind = BackendKind::kTbb;
   int threads = 0;              // TBB worker threads; 0 = all cores
   std::string opencl_platform;  // substring of the platform name; empty = first with a device
   std::string opencl_device;    // substring of the device name; empty = first
+  OpenClWait opencl_wait = OpenClWait::kAuto;
+  int opencl_spin_us = 250;  // the auto wait's limit, microseconds; 0 .. 100000
 };
 
 struct Config {
@@ -142,6 +150,7 @@ std::vector<std::string> YamlSections(const std::string& yaml_text);
 const char* ToString(SensorModelKind kind);
 const char* ToString(AlignmentKind kind);
 const char* ToString(BackendKind kind);
+const char* ToString(OpenClWait wait);
 const char* ToString(PolygonShape shape);
 
 }  // namespace freespace

@@ -30,13 +30,15 @@ Command AddDemoCommand(CLI::App& app);
 // Options every engine-running command shares.
 struct EngineOptions {
   std::string config_path;
-  std::string backend;  // empty = as configured
-  int threads = -1;     // -1 = as configured
+  std::string backend;      // empty = as configured
+  int threads = -1;         // -1 = as configured
+  std::string opencl_wait;  // empty = as configured
 };
 void AddEngineOptions(CLI::App* command, EngineOptions* options);
 
 // The config of a command: `base` (the defaults unless a command has its own), replaced by
-// --config (whose missing fields keep the defaults), then overridden by --backend / --threads.
+// --config (whose missing fields keep the defaults), then overridden by --backend / --threads /
+// --opencl-wait.
 // When the config file has no `sensor` section and `log_sensor` is given, the sensor comes
 // from the log. Throws ConfigError.
 Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_sensor,

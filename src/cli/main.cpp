@@ -20,6 +20,10 @@ void AddEngineOptions(CLI::App* command, EngineOptions* options) {
       ->add_option("--threads", options->threads,
                    "TBB worker threads (0 = all cores), overrides the config")
       ->check(CLI::Range(0, 1024));
+  command
+      ->add_option("--opencl-wait", options->opencl_wait,
+                   "How the host waits for the OpenCL device, overrides the config")
+      ->check(CLI::IsMember({"auto", "block", "spin"}));
 }
 
 Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_sensor,
@@ -39,6 +43,9 @@ Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_se
   if (options.backend == "opencl") config.backend.kind = BackendKind::kOpenCl;
   if (options.backend == "auto") config.backend.kind = BackendKind::kAuto;
   if (options.threads >= 0) config.backend.threads = options.threads;
+  if (options.opencl_wait == "auto") config.backend.opencl_wait = OpenClWait::kAuto;
+  if (options.opencl_wait == "block") config.backend.opencl_wait = OpenClWait::kBlock;
+  if (options.opencl_wait == "spin") config.backend.opencl_wait = OpenClWait::kSpin;
   config.Validate();
   return config;
 }
