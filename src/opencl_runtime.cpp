@@ -3,7 +3,10 @@
 // one in POCL_CACHE_DIR, by default under ~/.cache/pocl), so a second process skips the compiler.
 #include "opencl_runtime.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdlib>
+#include <cstring>
 #include <sstream>
 #include <vector>
 
@@ -174,9 +177,59 @@ DeviceChoice ChooseDevice(const BackendConfig& config) {
   throw BackendError(message.str());
 }
 
+std::string NameJoinedLines(const std::string& log, const KernelFile* files, int count) {
+  // The joined line of each file's #line directive: its text starts on the next line, and the
+  // newline BuildProgram adds after it ends the text's last line, so a text holding n newlines
+  // spans the joined lines [first, first + n] (the last one empty when the text ends with one).
+  std::vector<long> directive(count);
+  long line = 1;
+  for (int i = 0; i < count; ++i) {
+    directive[i] = line;
+    line += 2 + long(std::count(files[i].text, files[i].text + std::strlen(files[i].text), '\n'));
+  }
+  std::string out;
+  std::size_t at = 0;
+  while (at < log.size()) {
+    const std::size_t open = log.find('<', at);
+    if (open == std::string::npos) break;
+    std::size_t close = open + 1;
+    while (close < log.size() && log[close] != '>' && !std::isspace((unsigned char)log[close])) {
+      ++close;
+    }
+    std::size_t digits = close + 2, end = digits;
+    while (end < log.size() && std::isdigit((unsigned char)log[end])) ++end;
+    int file = -1;
+    long joined = 0;
+    if (close < log.size() && log[close] == '>' && close + 1 < log.size() &&
+        log[close + 1] == ':' && end > digits && end - digits < 10 && end < log.size() &&
+        log[end] == ':') {
+      joined = std::stol(log.substr(digits, end - digits));
+      for (int i = count - 1; i >= 0 && file < 0; --i) {
+        if (joined > directive[i]) file = i;
+      }
+      if (file >= 0 && (file + 1 < count ? joined >= directive[file + 1] : joined >= line)) {
+        file = -1;
+      }
+    }
+    if (file < 0) {
+      out.append(log, at, open + 1 - at);
+      at = open + 1;
+      continue;
+    }
+    out.append(log, at, open - at);
+    out += files[file].name;
+    out += ':';
+    out += std::to_string(joined - directive[file]);
+    at = end;
+  }
+  out.append(log, at, std::string::npos);
+  return out;
+}
+
 Program BuildProgram(cl_context context, cl_device_id device, const KernelFile* files, int count,
                      const std::string& options) {
-  // A #line directive before each file makes the compiler's messages name it.
+  // A #line directive before each file makes the compiler's messages name it (NameJoinedLines
+  // does it for a compiler that ignores the directive).
   std::vector<std::string> lines(count);
   std::vector<const char*> texts;
   for (int i = 0; i < count; ++i) {
@@ -205,7 +258,7 @@ Program BuildProgram(cl_context context, cl_device_id device, const KernelFile* 
   message << "backend opencl: the OpenCL kernels failed to build on \""
           << DeviceString(device, CL_DEVICE_NAME) << "\": " << ErrorName(status) << " (" << status
           << ")\n  options: " << options << "\n  build log:\n"
-          << (log.empty() ? "(empty)" : log);
+          << (log.empty() ? "(empty)" : NameJoinedLines(log, files, count));
   throw BackendError(message.str());
 }
 

@@ -92,6 +92,12 @@ DeviceChoice ChooseDevice(const BackendConfig& config);
 Program BuildProgram(cl_context context, cl_device_id device, const KernelFile* files, int count,
                      const std::string& options);
 
+// A build log with the joined source's line numbers turned into file names and lines. A compiler
+// that ignores #line (NVIDIA's does) numbers the joined program from 1 under a name of its own in
+// angle brackets, "<kernel>:6:10: error: ..."; each "<name>:LINE:" whose LINE falls inside one of
+// `files` (laid out as BuildProgram joins them) becomes "file.cl:line:". Everything else is kept.
+std::string NameJoinedLines(const std::string& log, const KernelFile* files, int count);
+
 // A context on one device, shared by every backend on that device, with a cache of the embedded
 // kernels built for each options string. Created on first use and kept until the process ends
 // (releasing OpenCL objects from static destructors races the ICD loader's own teardown).

@@ -101,6 +101,28 @@ TEST(OpenClRuntime, EnvironmentOverridesTheConfiguredDevice) {
   EXPECT_EQ(opencl::ChooseDevice(config).device, found.device);
 }
 
+// NVIDIA's compiler ignores #line: its log for the broken program below (as its driver 580
+// printed it) numbers the joined source, "<kernel>:6:10". The runtime names the file and line.
+TEST(OpenClRuntime, LogLinesOfTheJoinedSourceNameTheirFile) {
+  const opencl::KernelFile files[] = {
+      {"good.cl", "__kernel void good(__global int* x) { x[0] = 1; }\n"},
+      {"broken.cl", "__kernel void broken(__global int* x) {\n  x[0] = no_such_name;\n}\n"},
+      {"last.cl", "// no newline at the end"}};
+  const auto name = [&](const std::string& log) { return opencl::NameJoinedLines(log, files, 3); };
+  EXPECT_EQ(name("<kernel>:6:10: error: use of undeclared identifier 'no_such_name'\n"),
+            "broken.cl:2:10: error: use of undeclared identifier 'no_such_name'\n");
+  // Joined line 2 is good.cl's only line; 10 is the comment, last.cl's only line.
+  EXPECT_EQ(name("<source>:2:1: warning: a\n<kernel>:10:3: note: b"),
+            "good.cl:1:1: warning: a\nlast.cl:1:3: note: b");
+  // The directives' own lines (1, 4, 9) and lines past the end belong to no file; a log that
+  // names files already, and text that only looks like a location, stay as they are.
+  for (const std::string kept :
+       {"<kernel>:1:1: x", "<kernel>:4:1: x", "<kernel>:9:2: x", "<kernel>:11:1: x",
+        "broken.cl:2:10: error", "a <b> c", "<kernel>:12", "<kernel>::3:", "<", "x <kernel>:"}) {
+    EXPECT_EQ(name(kept), kept);
+  }
+}
+
 TEST(OpenClRuntime, BrokenKernelThrowsWithTheCompilersLog) {
   FREESPACE_DEVICE_OR_SKIP(found);
   const auto context = opencl::DeviceContext::Get(found);
