@@ -23,16 +23,25 @@ nlohmann::json StageJson(const StageSeries& s) {
 
 nlohmann::json PipelineRun::ToJson() const {
   const double mean = times.Mean("total");
-  return {{"backend", backend},
-          {"scans", scans},
-          {"stage_us", StageJson(times)},
-          {"scans_per_s", mean > 0 ? 1e6 / mean : 0.0}};
+  nlohmann::json out = {{"backend", backend},
+                        {"scans", scans},
+                        {"stage_us", StageJson(times)},
+                        {"scans_per_s", mean > 0 ? 1e6 / mean : 0.0}};
+  if (!opencl_wait.empty()) {
+    out["opencl_wait"] = opencl_wait;
+    out["opencl_spin_us"] = opencl_spin_us;
+  }
+  return out;
 }
 
 PipelineRun TimePipeline(const Config& config, const std::vector<Scan>& scans, int warmup) {
   Estimator estimator(config);
   PipelineRun run;
   run.backend = estimator.backend_name();
+  if (run.backend.rfind("opencl", 0) == 0) {
+    run.opencl_wait = ToString(config.backend.opencl_wait);
+    run.opencl_spin_us = config.backend.opencl_spin_us;
+  }
   for (const Scan& scan : scans) {
     const Result& r = estimator.Process(scan);
     if (r.status == ScanStatus::kRejected) continue;

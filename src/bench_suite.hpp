@@ -18,9 +18,11 @@ namespace freespace {
 
 // Stage times of one estimator over a scan sequence.
 struct PipelineRun {
-  std::string backend;  // as the estimator names it
-  StageSeries times;    // scans after the warm-up
-  int scans = 0;        // processed (not rejected), warm-up included
+  std::string backend;      // as the estimator names it
+  std::string opencl_wait;  // backend.opencl_wait of an OpenCL run; empty for TBB
+  int opencl_spin_us = 0;   // backend.opencl_spin_us of an OpenCL run
+  StageSeries times;        // scans after the warm-up
+  int scans = 0;            // processed (not rejected), warm-up included
   nlohmann::json ToJson() const;
 };
 

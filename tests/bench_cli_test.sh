@@ -108,6 +108,17 @@ check(tbb["stage_us"]["total"]["median"] > 0, "tbb pipeline")
 ocl = r["pipeline"].get("opencl", {})
 if "unavailable" not in ocl:
     check(ocl["stage_us"]["total"]["median"] > 0, "opencl pipeline")
+    check(ocl["opencl_wait"] == "auto" and ocl["opencl_spin_us"] == 250, "opencl wait mode")
     check(r["comparisons"]["opencl_over_tbb_total"] > 0, "opencl over tbb")
+check("opencl_wait" not in tbb, "no wait mode for tbb")
 EOF
+
+# The text report names the wait mode of the OpenCL run, here the one given on the command line.
+"$bin" bench --log "$log" --scans 12 --warmup 2 --backends opencl --opencl-wait spin \
+  --out "$out/spin" >"$out/spin.txt" 2>"$out/spin.err" || fail "bench --opencl-wait spin failed"
+if grep -q "^freespace bench: opencl: " "$out/spin.err"; then
+  echo "SKIP: no OpenCL device, the wait mode in the report was not checked: $(cat "$out/spin.err")"
+else
+  grep -q "^  opencl: .*, wait spin (" "$out/spin.txt" || fail "report does not name the wait mode"
+fi
 echo "PASS"

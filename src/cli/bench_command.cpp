@@ -372,7 +372,14 @@ int Run(const BenchOptions& options) {
       config.map.height_cells, config.map.resolution_m);
   std::printf("Pipeline, median / p99 microseconds per scan\n");
   for (const PipelineRun& r : runs) {
-    std::printf("  %s (%.0f scans/s)\n", r.backend.c_str(), 1e6 / r.times.Mean("total"));
+    std::string wait;
+    if (r.opencl_wait == "auto") {
+      wait = ", wait auto (spin under " + std::to_string(r.opencl_spin_us) + " us)";
+    } else if (!r.opencl_wait.empty()) {
+      wait = ", wait " + r.opencl_wait;
+    }
+    std::printf("  %s%s (%.0f scans/s)\n", r.backend.c_str(), wait.c_str(),
+                1e6 / r.times.Mean("total"));
     for (const char* stage :
          {"preprocess", "align", "rasterize", "fuse", "classify", "insight", "polygon", "total"}) {
       Line(stage, r.times.Quantile(stage, 0.5), r.times.Quantile(stage, 0.99), "us");
