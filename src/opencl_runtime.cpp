@@ -193,11 +193,12 @@ std::string NameJoinedLines(const std::string& log, const KernelFile* files, int
     const std::size_t open = log.find('<', at);
     if (open == std::string::npos) break;
     std::size_t close = open + 1;
-    while (close < log.size() && log[close] != '>' && !std::isspace((unsigned char)log[close])) {
+    while (close < log.size() && log[close] != '>' &&
+           !std::isspace(static_cast<unsigned char>(log[close]))) {
       ++close;
     }
     std::size_t digits = close + 2, end = digits;
-    while (end < log.size() && std::isdigit((unsigned char)log[end])) ++end;
+    while (end < log.size() && std::isdigit(static_cast<unsigned char>(log[end]))) ++end;
     int file = -1;
     long joined = 0;
     if (close < log.size() && log[close] == '>' && close + 1 < log.size() &&
