@@ -65,9 +65,7 @@ std::unique_ptr<Backend> CreateBackend(const BackendConfig& backend, const Kerne
 #ifdef FREESPACE_WITH_OPENCL
       return std::make_unique<OpenClBackend>(params, backend);
 #else
-      throw BackendError(
-          "backend opencl: this build of freespace has no OpenCL backend (configure with the "
-          "OpenCL headers and ICD loader installed)");
+      throw BackendError(kNoOpenClBuild);
 #endif
     case BackendKind::kAuto:
 #ifdef FREESPACE_WITH_OPENCL

@@ -169,4 +169,9 @@ std::unique_ptr<Backend> CreateBackend(const BackendConfig& backend, const Kerne
 // True when the library was built with the OpenCL backend.
 bool OpenClCompiledIn();
 
+// What `backend: opencl` says in a build without the OpenCL backend.
+inline constexpr const char* kNoOpenClBuild =
+    "backend opencl: this build of freespace has no OpenCL backend (configure with the OpenCL "
+    "headers and ICD loader installed)";
+
 }  // namespace freespace

@@ -126,26 +126,32 @@ void Check(cl_int code, const char* what) {
   throw BackendError(message.str());
 }
 
-DeviceChoice ChooseDevice(const BackendConfig& config) {
-  std::string platform_origin, device_origin;
-  const std::string platform_filter =
-      Filter(config.opencl_platform, kPlatformEnv, &platform_origin);
-  const std::string device_filter = Filter(config.opencl_device, kDeviceEnv, &device_origin);
+void ListDevices(const BackendConfig& config, DeviceList* list,
+                 std::vector<DeviceChoice>* handles) {
+  list->platform_filter = Filter(config.opencl_platform, kPlatformEnv, &list->platform_origin);
+  list->device_filter = Filter(config.opencl_device, kDeviceEnv, &list->device_origin);
+  list->platforms.clear();
+  list->error.clear();
+  if (handles != nullptr) handles->clear();
 
   cl_uint platform_count = 0;
   const cl_int status = clGetPlatformIDs(0, nullptr, &platform_count);
   if (status == -1001 /* CL_PLATFORM_NOT_FOUND_KHR */ ||
       (status == CL_SUCCESS && platform_count == 0)) {
-    throw BackendError("backend opencl: no OpenCL platform (ICD loader found none)");
+    list->error = "backend opencl: no OpenCL platform (ICD loader found none)";
+    return;
   }
   Check(status, "clGetPlatformIDs");
   std::vector<cl_platform_id> platforms(platform_count);
   Check(clGetPlatformIDs(platform_count, platforms.data(), nullptr), "clGetPlatformIDs");
 
+  bool chosen = false;
   std::ostringstream seen;
   for (cl_platform_id platform : platforms) {
-    const std::string platform_name = PlatformString(platform, CL_PLATFORM_NAME);
-    seen << "\n  platform \"" << platform_name << "\":";
+    ComputePlatform& entry = list->platforms.emplace_back();
+    entry.name = PlatformString(platform, CL_PLATFORM_NAME);
+    entry.version = PlatformString(platform, CL_PLATFORM_VERSION);
+    seen << "\n  platform \"" << entry.name << "\":";
     cl_uint device_count = 0;
     if (clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, 0, nullptr, &device_count) != CL_SUCCESS ||
         device_count == 0) {
@@ -155,26 +161,65 @@ DeviceChoice ChooseDevice(const BackendConfig& config) {
     std::vector<cl_device_id> devices(device_count);
     Check(clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, device_count, devices.data(), nullptr),
           "clGetDeviceIDs");
-    const bool platform_matches = platform_name.find(platform_filter) != std::string::npos;
+    const bool platform_matches = entry.name.find(list->platform_filter) != std::string::npos;
     for (cl_device_id device : devices) {
-      const std::string device_name = DeviceString(device, CL_DEVICE_NAME);
+      ComputeDevice& d = entry.devices.emplace_back();
+      d.name = DeviceString(device, CL_DEVICE_NAME);
+      d.version = DeviceString(device, CL_DEVICE_VERSION);
+      d.driver_version = DeviceString(device, CL_DRIVER_VERSION);
+      d.opencl_c_version = DeviceString(device, CL_DEVICE_OPENCL_C_VERSION);
+      cl_device_type type = 0;
+      cl_uint units = 0;
+      std::size_t group = 0;
+      cl_ulong memory = 0;
       cl_bool available = CL_FALSE, compiler = CL_FALSE;
+      clGetDeviceInfo(device, CL_DEVICE_TYPE, sizeof type, &type, nullptr);
+      clGetDeviceInfo(device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof units, &units, nullptr);
+      clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof group, &group, nullptr);
+      clGetDeviceInfo(device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof memory, &memory, nullptr);
       clGetDeviceInfo(device, CL_DEVICE_AVAILABLE, sizeof available, &available, nullptr);
       clGetDeviceInfo(device, CL_DEVICE_COMPILER_AVAILABLE, sizeof compiler, &compiler, nullptr);
-      seen << " device \"" << device_name << "\"";
-      if (!available) seen << " (not available)";
-      if (!compiler) seen << " (no compiler)";
-      if (platform_matches && available && compiler &&
-          device_name.find(device_filter) != std::string::npos) {
-        return {platform, device, platform_name, device_name};
+      d.type = (type & CL_DEVICE_TYPE_GPU)           ? "gpu"
+               : (type & CL_DEVICE_TYPE_CPU)         ? "cpu"
+               : (type & CL_DEVICE_TYPE_ACCELERATOR) ? "accelerator"
+                                                     : "other";
+      d.compute_units = int(units);
+      d.max_work_group = group;
+      d.global_memory_bytes = memory;
+      d.available = available != CL_FALSE;
+      d.compiler = compiler != CL_FALSE;
+      seen << " device \"" << d.name << "\"";
+      if (!d.available) seen << " (not available)";
+      if (!d.compiler) seen << " (no compiler)";
+      if (!chosen && platform_matches && d.available && d.compiler &&
+          d.name.find(list->device_filter) != std::string::npos) {
+        d.chosen = chosen = true;
       }
+      if (handles != nullptr) handles->push_back({platform, device, entry.name, d.name});
     }
   }
-  std::ostringstream message;
-  message << "backend opencl: no usable OpenCL device matches platform \"" << platform_filter
-          << "\" (" << platform_origin << ") and device \"" << device_filter << "\" ("
-          << device_origin << "); found:" << seen.str();
-  throw BackendError(message.str());
+  if (!chosen) {
+    std::ostringstream message;
+    message << "backend opencl: no usable OpenCL device matches platform \""
+            << list->platform_filter << "\" (" << list->platform_origin << ") and device \""
+            << list->device_filter << "\" (" << list->device_origin << "); found:" << seen.str();
+    list->error = message.str();
+  }
+}
+
+DeviceChoice ChooseDevice(const BackendConfig& config) {
+  DeviceList list;
+  std::vector<DeviceChoice> handles;
+  ListDevices(config, &list, &handles);
+  if (!list.error.empty()) throw BackendError(list.error);
+  std::size_t index = 0;
+  for (const ComputePlatform& platform : list.platforms) {
+    for (const ComputeDevice& device : platform.devices) {
+      if (device.chosen) return handles[index];
+      ++index;
+    }
+  }
+  throw BackendError("backend opencl: no device chosen");  // ListDevices sets error instead
 }
 
 std::string NameJoinedLines(const std::string& log, const KernelFile* files, int count) {

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "freespace/config.hpp"
+#include "freespace/devices.hpp"
 #include "opencl_kernels.hpp"
 
 namespace freespace::opencl {
@@ -78,6 +79,11 @@ struct DeviceChoice {
   std::string platform_name;
   std::string device_name;
 };
+
+// Every platform and device with the one ChooseDevice takes marked `chosen` (fills all of `list`
+// but `opencl_built`); `handles`, when given, gets the device ids in listing order.
+void ListDevices(const BackendConfig& config, DeviceList* list,
+                 std::vector<DeviceChoice>* handles = nullptr);
 
 // The first available device, in platform then device order, whose platform name contains the
 // platform filter and whose name contains the device filter (empty filters match all). The

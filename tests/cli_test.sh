@@ -69,6 +69,28 @@ if [ $rc -eq 0 ]; then
     2>"$out/auto.err" || fail "run --backend auto failed"
   grep -q "backend auto: using opencl: " "$out/auto.err" \
     || fail "--backend auto does not say it took opencl: $(cat "$out/auto.err")"
+  # `devices` marks the device auto took, and --check builds the kernels on it.
+  taken=$(sed -n 's/^freespace: backend auto: using opencl: //p' "$out/auto.err")
+  "$bin" devices --check >"$out/devices.txt" 2>"$out/devices.err" \
+    || fail "devices --check failed: $(cat "$out/devices.err")"
+  grep '^  \* ' "$out/devices.txt" | grep -qF "\"$taken\"" \
+    || fail "devices does not mark \"$taken\": $(cat "$out/devices.txt")"
+  grep -q "^check: the kernels built for a 300 x 300 map" "$out/devices.txt" \
+    || fail "devices --check did not build: $(cat "$out/devices.txt")"
+  "$bin" devices --json >"$out/devices.json" || fail "devices --json failed"
+  python3 - "$out/devices.json" "$taken" <<'EOF' || fail "devices --json"
+import json, sys
+r = json.load(open(sys.argv[1]))
+chosen = [d["name"] for p in r["platforms"] for d in p["devices"] if d["chosen"]]
+assert chosen == [sys.argv[2]] and r["error"] is None and r["opencl_built"], r
+assert r["device_filter"] == {"value": "", "from": "config"}, r
+EOF
+  FREESPACE_OPENCL_DEVICE=no-such-device "$bin" devices >"$out/devices-none.txt" \
+    2>"$out/devices-none.err"
+  [ $? -eq 2 ] || fail "devices with no matching device must exit 2"
+  grep -q "no usable OpenCL device matches platform \"\" (config) and device \"no-such-device\" (FREESPACE_OPENCL_DEVICE)" \
+    "$out/devices-none.err" || fail "devices does not say why: $(cat "$out/devices-none.err")"
+  grep -q '^  \* ' "$out/devices-none.txt" && fail "devices marked a device that does not match"
 elif [ $rc -eq 2 ] && grep -q "backend opencl" "$out/opencl.err"; then
   echo "SKIP: backend comparison: --backend opencl is not available here: $(grep -m1 "backend opencl" "$out/opencl.err")"
 else
@@ -88,5 +110,12 @@ OCL_ICD_VENDORS="$out/no-icd" "$bin" run --log "$log" --out "$out/no-icd-auto" -
   --max-scans 3 --quiet 2>"$out/no-icd-auto.err" || fail "--backend auto without OpenCL failed"
 grep -q "backend auto: .*using tbb" "$out/no-icd-auto.err" \
   || fail "--backend auto does not say it took tbb: $(cat "$out/no-icd-auto.err")"
+OCL_ICD_VENDORS="$out/no-icd" "$bin" devices --json >"$out/no-icd-devices.json" 2>/dev/null
+[ $? -eq 2 ] || fail "devices without a platform must exit 2"
+python3 - "$out/no-icd-devices.json" <<'EOF' || fail "devices --json without a platform"
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["platforms"] == [] and ("ICD loader found none" in r["error"] or not r["opencl_built"]), r
+EOF
 
 echo "cli: all cases passed"

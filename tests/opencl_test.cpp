@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <random>
+#include <string>
 #include <tuple>
+#include <vector>
 
 #include "host_backend.hpp"
 #include "opencl_backend.hpp"
@@ -99,6 +101,55 @@ TEST(OpenClRuntime, EnvironmentOverridesTheConfiguredDevice) {
   // A substring of the name is enough.
   config.opencl_device = found.device_name.substr(0, 3);
   EXPECT_EQ(opencl::ChooseDevice(config).device, found.device);
+}
+
+// The public listing marks exactly the device the backend takes, lists the rest, and says why
+// when nothing matches, with the filters and where they came from.
+TEST(OpenClRuntime, DeviceListMarksTheDeviceTheBackendTakes) {
+  FREESPACE_DEVICE_OR_SKIP(found);
+  const DeviceList list = ListComputeDevices(BackendConfig{});
+  EXPECT_TRUE(list.opencl_built);
+  EXPECT_TRUE(list.error.empty()) << list.error;
+  EXPECT_EQ(list.device_origin, "config");
+  std::vector<std::string> chosen;
+  int devices = 0;
+  for (const ComputePlatform& p : list.platforms) {
+    EXPECT_FALSE(p.name.empty());
+    for (const ComputeDevice& d : p.devices) {
+      ++devices;
+      EXPECT_FALSE(d.name.empty());
+      EXPECT_TRUE(d.type == "cpu" || d.type == "gpu" || d.type == "accelerator" ||
+                  d.type == "other")
+          << d.type;
+      EXPECT_GE(d.compute_units, 1) << d.name;
+      EXPECT_GE(d.max_work_group, 1u) << d.name;
+      EXPECT_EQ(d.opencl_c_version.rfind("OpenCL C ", 0), 0u) << d.opencl_c_version;
+      if (d.chosen) chosen.push_back(p.name + " / " + d.name);
+    }
+  }
+  EXPECT_EQ(chosen, std::vector<std::string>{found.platform_name + " / " + found.device_name});
+
+  // Nothing matches: every device is still listed, none marked, and the error is the backend's.
+  BackendConfig none;
+  none.opencl_device = "no-such-device";
+  const DeviceList unmatched = ListComputeDevices(none);
+  int listed = 0;
+  for (const ComputePlatform& p : unmatched.platforms) {
+    for (const ComputeDevice& d : p.devices) {
+      ++listed;
+      EXPECT_FALSE(d.chosen) << d.name;
+    }
+  }
+  EXPECT_EQ(listed, devices);
+  EXPECT_EQ(unmatched.error, ErrorOf(none));
+  EXPECT_EQ(unmatched.device_filter, "no-such-device");
+
+  // The environment replaces the configured filter, and the listing says so.
+  const ScopedEnv env(opencl::kDeviceEnv, found.device_name.c_str());
+  const DeviceList overridden = ListComputeDevices(none);
+  EXPECT_EQ(overridden.device_filter, found.device_name);
+  EXPECT_EQ(overridden.device_origin, "FREESPACE_OPENCL_DEVICE");
+  EXPECT_TRUE(overridden.error.empty()) << overridden.error;
 }
 
 // NVIDIA's compiler ignores #line: its log for the broken program below (as its driver 580

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "freespace/config.hpp"
+#include "freespace/devices.hpp"
 #include "freespace/errors.hpp"
 #include "freespace/estimator.hpp"
 #include "freespace/io.hpp"

@@ -26,6 +26,7 @@ Command AddBenchCommand(CLI::App& app);
 Command AddSimulateCommand(CLI::App& app);
 Command AddEvalCommand(CLI::App& app);
 Command AddDemoCommand(CLI::App& app);
+Command AddDevicesCommand(CLI::App& app);
 
 // Options every engine-running command shares.
 struct EngineOptions {

@@ -74,6 +74,7 @@ int main(int argc, char** argv) {
   commands.push_back(freespace::cli::AddBenchCommand(app));
   commands.push_back(freespace::cli::AddSimulateCommand(app));
   commands.push_back(freespace::cli::AddEvalCommand(app));
+  commands.push_back(freespace::cli::AddDevicesCommand(app));
 
   try {
     app.parse(argc, argv);
