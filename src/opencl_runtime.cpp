@@ -159,8 +159,11 @@ void ListDevices(const BackendConfig& config, DeviceList* list,
       continue;
     }
     std::vector<cl_device_id> devices(device_count);
-    Check(clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, device_count, devices.data(), nullptr),
-          "clGetDeviceIDs");
+    if (clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, device_count, devices.data(), nullptr) !=
+        CL_SUCCESS) {
+      seen << " no devices";  // a platform that fails here must not hide the others
+      continue;
+    }
     const bool platform_matches = entry.name.find(list->platform_filter) != std::string::npos;
     for (cl_device_id device : devices) {
       ComputeDevice& d = entry.devices.emplace_back();
@@ -232,6 +235,11 @@ std::string NameJoinedLines(const std::string& log, const KernelFile* files, int
     directive[i] = line;
     line += 2 + long(std::count(files[i].text, files[i].text + std::strlen(files[i].text), '\n'));
   }
+  // A log that names the files already came from a compiler that honours #line; its other
+  // "<name>:" references (Clang's "<built-in>") are not in the joined source.
+  for (int i = 0; i < count; ++i) {
+    if (log.find(std::string(files[i].name) + ":") != std::string::npos) return log;
+  }
   std::string out;
   std::size_t at = 0;
   while (at < log.size()) {
@@ -247,8 +255,8 @@ std::string NameJoinedLines(const std::string& log, const KernelFile* files, int
     int file = -1;
     long joined = 0;
     if (close < log.size() && log[close] == '>' && close + 1 < log.size() &&
-        log[close + 1] == ':' && end > digits && end - digits < 10 && end < log.size() &&
-        log[end] == ':') {
+        log.compare(open, close + 1 - open, "<built-in>") != 0 && log[close + 1] == ':' &&
+        end > digits && end - digits < 10 && end < log.size() && log[end] == ':') {
       joined = std::stol(log.substr(digits, end - digits));
       for (int i = count - 1; i >= 0 && file < 0; --i) {
         if (joined > directive[i]) file = i;

@@ -101,7 +101,8 @@ Program BuildProgram(cl_context context, cl_device_id device, const KernelFile* 
 // A build log with the joined source's line numbers turned into file names and lines. A compiler
 // that ignores #line (NVIDIA's does) numbers the joined program from 1 under a name of its own in
 // angle brackets, "<kernel>:6:10: error: ..."; each "<name>:LINE:" whose LINE falls inside one of
-// `files` (laid out as BuildProgram joins them) becomes "file.cl:line:". Everything else is kept.
+// `files` (laid out as BuildProgram joins them) becomes "file.cl:line:". Everything else is kept:
+// "<built-in>" references, and the whole log when it names one of the files already.
 std::string NameJoinedLines(const std::string& log, const KernelFile* files, int count);
 
 // A context on one device, shared by every backend on that device, with a cache of the embedded

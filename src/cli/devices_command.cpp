@@ -121,21 +121,25 @@ int Devices(const DevicesOptions& options) {
               d.available ? "" : " (not available)", d.compiler ? "" : " (no compiler)");
         }
       }
-      if (chosen != nullptr) {
-        std::printf("backend opencl takes \"%s\" on \"%s\"; backend auto takes it too%s\n",
-                    chosen->name.c_str(), platform->name.c_str(),
-                    options.check ? "" : " if its kernels build (--check builds them)");
-      } else {
+      if (chosen == nullptr) {
         std::printf("backend opencl fails; backend auto takes tbb\n");
-      }
-    }
-    if (options.check && chosen != nullptr) {
-      if (check_error.empty()) {
+      } else if (!options.check) {
+        std::printf(
+            "backend opencl takes \"%s\" on \"%s\"; backend auto takes it too if its "
+            "kernels build (--check builds them)\n",
+            chosen->name.c_str(), platform->name.c_str());
+      } else if (check_error.empty()) {
+        std::printf("backend opencl takes \"%s\" on \"%s\"; backend auto takes it too\n",
+                    chosen->name.c_str(), platform->name.c_str());
         std::printf("check: the kernels built for a %d x %d map in %.0f ms\n",
                     config.map.width_cells, config.map.height_cells,
                     check["setup_ms"].get<double>());
       } else {
-        std::printf("check: failed; backend auto takes tbb\n");
+        std::printf(
+            "backend opencl takes \"%s\" on \"%s\", but fails there; backend auto "
+            "takes tbb\n",
+            chosen->name.c_str(), platform->name.c_str());
+        std::printf("check: failed (the reason is on stderr)\n");
       }
     }
   }
