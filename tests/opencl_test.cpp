@@ -112,11 +112,13 @@ TEST(OpenClRuntime, DeviceListMarksTheDeviceTheBackendTakes) {
   EXPECT_TRUE(list.error.empty()) << list.error;
   EXPECT_EQ(list.device_origin, "config");
   std::vector<std::string> chosen;
+  std::string first_usable;  // with empty filters the rule takes the first usable device
   int devices = 0;
   for (const ComputePlatform& p : list.platforms) {
     EXPECT_FALSE(p.name.empty());
     for (const ComputeDevice& d : p.devices) {
       ++devices;
+      if (first_usable.empty() && d.available && d.compiler) first_usable = p.name + " / " + d.name;
       EXPECT_FALSE(d.name.empty());
       EXPECT_TRUE(d.type == "cpu" || d.type == "gpu" || d.type == "accelerator" ||
                   d.type == "other")
@@ -129,6 +131,7 @@ TEST(OpenClRuntime, DeviceListMarksTheDeviceTheBackendTakes) {
     }
   }
   EXPECT_EQ(chosen, std::vector<std::string>{found.platform_name + " / " + found.device_name});
+  EXPECT_EQ(chosen, std::vector<std::string>{first_usable});
 
   // Nothing matches: every device is still listed, none marked, and the error is the backend's.
   BackendConfig none;
