@@ -12,15 +12,23 @@
 // column pass one AND or OR per word and row, and the free mask the in-sight stage reads is
 // 64 times smaller than the map. Bits past the map's width are 0 in every mask.
 //
-// Three kernels, because a column pass needs other rows' results of the pass before it:
+// In the GPU work shape, three kernels, because a column pass needs other rows' results of the
+// pass before it:
 //   classify_hysteresis_erode_rows   map -> free0 (a) -> row erosion (b)
 //   classify_erode_cols_dilate_rows  b -> column erosion (a) -> row dilation (c)
 //   classify_dilate_cols             c -> column dilation (free mask)
 // Inside a kernel the second pass reads other words of its own row, which the work-group wrote
-// before the barrier (the host keeps each row's work-items in one work-group).
+// before the barrier (the host keeps each row's work-items in one work-group). Global size
+// (bit row items, HEIGHT rounded up).
 //
-// Build options: T_LOW, T_HIGH, OPENING_RADIUS (and those of common.cl). Global size
-// (bit row items, HEIGHT rounded up) for every kernel.
+// In the CPU work shape (src/opencl_backend.cpp), one kernel, classify_bands: one work-item per
+// band of rows runs all the passes down its band, keeping only the rows a column window still
+// needs (in rings of 2 OPENING_RADIUS + 1 rows), and recomputes the 2 OPENING_RADIUS rows beyond
+// each end of its band that the column windows reach. Every row goes through the same functions
+// as above, so the bits are the same; a scan saves two commands and the passes over whole-map
+// intermediates.
+//
+// Build options: T_LOW, T_HIGH, OPENING_RADIUS (and those of common.cl).
 
 // Bits of the last word of a row that lie inside the map.
 #define CLASSIFY_LAST_WORD_BITS ((WIDTH % 64) ? (~0UL >> (64 - WIDTH % 64)) : ~0UL)
@@ -37,10 +45,11 @@ ulong ClassifyLevelWord(__global const uint* row, int w) {
 #endif
 }
 
-// Level bitsets -> free0 on words [w0, w1) of row r. Walks the words left to right carrying the
-// strong columns (rows r - 1 .. r + 1 OR'd) of the words left and right of the current one; the
-// 8-neighbourhood is the current column OR'd with its neighbours one bit left and right. A row
-// beyond the map's edge is replaced by row r itself, which adds nothing to the OR.
+// Level bitsets -> free0 on words [w0, w1) of row r, into the bitset row `out`. Walks the words
+// left to right carrying the strong columns (rows r - 1 .. r + 1 OR'd) of the words left and
+// right of the current one; the 8-neighbourhood is the current column OR'd with its neighbours
+// one bit left and right. A row beyond the map's edge is replaced by row r itself, which adds
+// nothing to the OR.
 void ClassifyHysteresis(__global const uint* strong, __global const uint* weak, __global ulong* out,
                         int r, int w0, int w1) {
   __global const uint* s = strong + r * LEVEL_WORDS;
@@ -53,7 +62,7 @@ void ClassifyHysteresis(__global const uint* strong, __global const uint* weak, 
   for (int w = w0; w < w1; ++w) {
     const ulong right = w + 1 < BIT_WORDS ? CLASSIFY_NEAR(w + 1) : 0;
     const ulong spread = here | (here << 1) | (left >> 63) | (here >> 1) | (right << 63);
-    out[r * BIT_WORDS + w] = ClassifyLevelWord(s, w) | (ClassifyLevelWord(k, w) & spread);
+    out[w] = ClassifyLevelWord(s, w) | (ClassifyLevelWord(k, w) & spread);
     left = here;
     here = right;
   }
@@ -110,7 +119,7 @@ __kernel void classify_hysteresis_erode_rows(__global const uint* strong, __glob
   const int r = get_global_id(1);
   int w0, w1;
   const bool active = r < HEIGHT && RowWords(&w0, &w1);
-  if (active) ClassifyHysteresis(strong, weak, a, r, w0, w1);
+  if (active) ClassifyHysteresis(strong, weak, a + r * BIT_WORDS, r, w0, w1);
   barrier(CLK_GLOBAL_MEM_FENCE);
   if (!active) return;
   for (int w = w0; w < w1; ++w) b[r * BIT_WORDS + w] = ClassifyErodeRow(a + r * BIT_WORDS, w);
@@ -152,5 +161,64 @@ __kernel void classify_dilate_cols(__global const ulong* c, __global ulong* free
   for (int w = w0; w < w1; ++w) out[w] = c[d0 * BIT_WORDS + w];
   for (int d = d0 + 1; d <= d1; ++d) {
     for (int w = w0; w < w1; ++w) out[w] |= c[d * BIT_WORDS + w];
+  }
+}
+
+// The rows a band keeps: a ring of row erosions (b) and one of row dilations (c), each as many
+// rows as a column window, then one row for free0 and for the column erosion in turn. Every
+// ring row is written before it is read, so the scratch needs no initial contents.
+#define CLASSIFY_RING (2 * OPENING_RADIUS + 1)
+#define CLASSIFY_BAND_ROWS (2 * CLASSIFY_RING + 1)
+
+// Stage 3 for the rows [g band, (g + 1) band) of work-item g; `scratch` holds
+// CLASSIFY_BAND_ROWS bitset rows per work-item. Step t computes b of row t, the column erosion
+// and c of row t - OPENING_RADIUS (whose window of b ends at row t) and the free mask of row
+// t - 2 OPENING_RADIUS (whose window of c ends there), each where the band needs it.
+__kernel void classify_bands(__global const uint* strong, __global const uint* weak,
+                             __global ulong* scratch, __global ulong* free, int band) {
+  const int g = get_global_id(0);
+  const int r0 = g * band, r1 = min(r0 + band, HEIGHT);
+  if (r0 >= r1) return;
+  const int h = OPENING_RADIUS;
+  __global ulong* b_ring = scratch + (size_t)g * CLASSIFY_BAND_ROWS * BIT_WORDS;
+  __global ulong* c_ring = b_ring + CLASSIFY_RING * BIT_WORDS;
+  __global ulong* row = c_ring + CLASSIFY_RING * BIT_WORDS;
+  // b of the rows the column erosions reach, c of the rows the column dilations reach.
+  const int b_begin = max(r0 - 2 * h, 0), b_end = min(r1 + 2 * h, HEIGHT);
+  const int c_begin = max(r0 - h, 0), c_end = min(r1 + h, HEIGHT);
+  for (int t = b_begin; t < r1 + 2 * h; ++t) {
+    if (t < b_end) {
+      ClassifyHysteresis(strong, weak, row, t, 0, BIT_WORDS);
+      __global ulong* b = b_ring + (t % CLASSIFY_RING) * BIT_WORDS;
+      for (int w = 0; w < BIT_WORDS; ++w) b[w] = ClassifyErodeRow(row, w);
+    }
+    const int j = t - h;
+    if (j >= c_begin && j < c_end) {
+      // b rows j - h .. j + h are the ring's rows t - 2h .. t: all of it.
+      if (j >= h && j + h < HEIGHT) {
+        __global const ulong* first = b_ring + ((j - h) % CLASSIFY_RING) * BIT_WORDS;
+        for (int w = 0; w < BIT_WORDS; ++w) row[w] = first[w];
+        for (int d = 1; d <= 2 * h; ++d) {
+          __global const ulong* in = b_ring + ((j - h + d) % CLASSIFY_RING) * BIT_WORDS;
+          for (int w = 0; w < BIT_WORDS; ++w) row[w] &= in[w];
+        }
+      } else {
+        for (int w = 0; w < BIT_WORDS; ++w) row[w] = 0;
+      }
+      __global ulong* c = c_ring + (j % CLASSIFY_RING) * BIT_WORDS;
+      for (int w = 0; w < BIT_WORDS; ++w) c[w] = ClassifyDilateRow(row, w) & ClassifyValidBits(w);
+    }
+    const int k = t - 2 * h;
+    if (k >= r0 && k < r1) {
+      // c rows k - h .. k + h (inside the map) are the ring's rows t - 3h .. t - h.
+      const int d0 = max(k - h, 0), d1 = min(k + h, HEIGHT - 1);
+      __global const ulong* first = c_ring + (d0 % CLASSIFY_RING) * BIT_WORDS;
+      __global ulong* out = free + k * BIT_WORDS;
+      for (int w = 0; w < BIT_WORDS; ++w) out[w] = first[w];
+      for (int d = d0 + 1; d <= d1; ++d) {
+        __global const ulong* in = c_ring + (d % CLASSIFY_RING) * BIT_WORDS;
+        for (int w = 0; w < BIT_WORDS; ++w) out[w] |= in[w];
+      }
+    }
   }
 }

@@ -51,6 +51,9 @@ constexpr std::size_t kGpuRowGroup = 256;  // at most this many work-items for o
 constexpr std::size_t kEdgeGroup = 16;     // rasterize_edges, rays_cast: uneven loop lengths
 constexpr std::size_t kCastGroup = 16;     // insight_cast
 constexpr std::size_t kBandsPerUnit = 1;   // rasterize_bands
+// classify_bands: more bands than compute units, so that a unit that starts late still finds
+// work; each band recomputes 4 OPENING_RADIUS rows of its neighbours'.
+constexpr std::size_t kClassifyBandsPerUnit = 2;
 constexpr std::size_t kMaxRasterGroup = 256;
 
 // Initial capacity of the job buffer, in ints: a ScaLa scan (581 beams, ~2000 echoes) fits.
@@ -154,6 +157,7 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     levels_[k] = MakeKernel("classify_levels");
     shift_[k] = MakeKernel("shift_map");
     hysteresis_[k] = MakeKernel("classify_hysteresis_erode_rows");
+    classify_bands_[k] = MakeKernel("classify_bands");
     row_fuse_[k][0] = MakeKernel(row_pass);
     row_fuse_[k][1] = MakeKernel(row_pass);
   }
@@ -182,6 +186,12 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   bits_b_ = buffer(mask_bytes);
   bits_c_ = buffer(mask_bytes);
   free_ = buffer(mask_bytes);
+  // classify_bands: bands of whole rows, at most one per row.
+  const std::size_t band = (std::size_t(height) + kClassifyBandsPerUnit * compute_units_ - 1) /
+                           (kClassifyBandsPerUnit * compute_units_);
+  classify_bands_count_ = (std::size_t(height) + band - 1) / band;
+  // CLASSIFY_BAND_ROWS (classify.cl) bitset rows per band.
+  band_rows_ = buffer(classify_bands_count_ * std::size_t(4 * h + 3) * std::size_t(BitWords()) * 8);
   stop_ = buffer(labels * 4);
   delta_ = buffer(padded * 4);
   GrowJob(kInitialJobInts);
@@ -254,6 +264,11 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     SetArg(hysteresis_[k].get(), 1, weak_[k].get());
     SetArg(hysteresis_[k].get(), 2, bits_a_.get());
     SetArg(hysteresis_[k].get(), 3, bits_b_.get());
+    SetArg(classify_bands_[k].get(), 0, strong_[k].get());
+    SetArg(classify_bands_[k].get(), 1, weak_[k].get());
+    SetArg(classify_bands_[k].get(), 2, band_rows_.get());
+    SetArg(classify_bands_[k].get(), 3, free_.get());
+    SetArg(classify_bands_[k].get(), 4, cl_int(band));
     SetArg(shift_[k].get(), 0, map_[k].get());
     SetArg(shift_[k].get(), 1, map_[1 - k].get());
   }
@@ -524,6 +539,19 @@ void OpenClBackend::Classify() {
   Flush();
   opencl::Event begin, end;
   const int height = params_.height;
+  if (bands_) {
+    const std::size_t one = 1;
+    if (!levels_valid_) {
+      BitsLaunch(levels_[current_].get(), height, begin.out());
+      Launch(classify_bands_[current_].get(), 1, &classify_bands_count_, &one, end.out());
+      levels_valid_ = true;
+    } else {
+      Launch(classify_bands_[current_].get(), 1, &classify_bands_count_, &one, begin.out());
+      end = Retained(begin.get());
+    }
+    SetStage(kClassifyStage, std::move(begin), std::move(end));
+    return;
+  }
   if (!levels_valid_) {
     BitsLaunch(levels_[current_].get(), height, begin.out());
     BitsLaunch(hysteresis_[current_].get(), height, nullptr);

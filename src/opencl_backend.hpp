@@ -138,6 +138,7 @@ class OpenClBackend final : public Backend {
   opencl::Mem bits_b_;            //
   opencl::Mem bits_c_;            //
   opencl::Mem free_;              // stage 3 output, stage 4 input: bitset
+  opencl::Mem band_rows_;         // classify_bands: the rows each band keeps (classify.cl)
   opencl::Mem stop_;              // stage 4 output: stop cell per label
   opencl::Mem delta_;             // conventional model: per-cell sum of one scan's rays
   opencl::Mem job_;               // the raster or ray job (rasterize.cl, rays.cl)
@@ -145,7 +146,8 @@ class OpenClBackend final : public Backend {
 
   opencl::Kernel rasterize_edges_, insight_cast_, rays_cast_;
   opencl::Kernel erode_dilate_, dilate_cols_;
-  std::array<opencl::Kernel, 2> fuse_, rays_fuse_, levels_, shift_, hysteresis_;  // per map buffer
+  std::array<opencl::Kernel, 2> fuse_, rays_fuse_, levels_, shift_, hysteresis_,
+      classify_bands_;  // per map buffer
   // The row pass of stage 1 (rasterize_rows, or rasterize_bands on a CPU): the mask only, and
   // per map buffer k with the fusion, [k][0] in place on map_[k], [k][1] shifting map_[k] into
   // map_[1 - k] on the way (and the level bitsets of map_[k] into those of map_[1 - k]).
@@ -177,6 +179,7 @@ class OpenClBackend final : public Backend {
   std::size_t raster_local_[2] = {1, 1};          // rasterize_rows
   std::size_t edge_local_ = 1;                    // rasterize_edges, rays_cast
   std::size_t cast_local_ = 1, cast_global_ = 1;  // insight_cast
+  std::size_t classify_bands_count_ = 1;          // classify_bands: work-items, one per band
 
   std::vector<std::int32_t> job_host_;    // staging of the job upload
   std::vector<std::int32_t> stop_host_;   // stage 4: stop cells as read back
