@@ -182,9 +182,12 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     strong_[k] = buffer(level_bytes);
     weak_[k] = buffer(level_bytes);
   }
-  bits_a_ = buffer(mask_bytes);
-  bits_b_ = buffer(mask_bytes);
-  bits_c_ = buffer(mask_bytes);
+  // The three-kernel stage 3's intermediates; classify_bands (the CPU shape) keeps its rows in
+  // band_rows_ instead.
+  const std::size_t between_bytes = bands_ ? 8 : mask_bytes;
+  bits_a_ = buffer(between_bytes);
+  bits_b_ = buffer(between_bytes);
+  bits_c_ = buffer(between_bytes);
   free_ = buffer(mask_bytes);
   // classify_bands: bands of whole rows, at most one per row.
   const std::size_t band = (std::size_t(height) + kClassifyBandsPerUnit * compute_units_ - 1) /
@@ -210,9 +213,9 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     Fill(strong_[k].get(), level_bytes);
     Fill(weak_[k].get(), level_bytes);
   }
-  Fill(bits_a_.get(), mask_bytes);
-  Fill(bits_b_.get(), mask_bytes);
-  Fill(bits_c_.get(), mask_bytes);
+  Fill(bits_a_.get(), between_bytes);
+  Fill(bits_b_.get(), between_bytes);
+  Fill(bits_c_.get(), between_bytes);
   Fill(free_.get(), mask_bytes);
   Fill(delta_.get(), padded * 4);
 

@@ -134,7 +134,7 @@ class OpenClBackend final : public Backend {
   opencl::Mem occupied_;          //
   opencl::Mem strong_[2];         // level bitsets of map_[k], stage 1 or 3 -> stage 3
   opencl::Mem weak_[2];           //
-  opencl::Mem bits_a_;            // stage 3 intermediates, bitsets (common.cl)
+  opencl::Mem bits_a_;            // stage 3 intermediates (GPU shape), bitsets (common.cl)
   opencl::Mem bits_b_;            //
   opencl::Mem bits_c_;            //
   opencl::Mem free_;              // stage 3 output, stage 4 input: bitset
