@@ -193,8 +193,9 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   const std::size_t band = (std::size_t(height) + kClassifyBandsPerUnit * compute_units_ - 1) /
                            (kClassifyBandsPerUnit * compute_units_);
   classify_bands_count_ = (std::size_t(height) + band - 1) / band;
-  // CLASSIFY_BAND_ROWS (classify.cl) bitset rows per band.
-  band_rows_ = buffer(classify_bands_count_ * std::size_t(4 * h + 3) * std::size_t(BitWords()) * 8);
+  // CLASSIFY_BAND_ROWS (classify.cl) bitset rows per band, in the CPU shape only.
+  band_rows_ = buffer(
+      bands_ ? classify_bands_count_ * std::size_t(4 * h + 3) * std::size_t(BitWords()) * 8 : 8);
   stop_ = buffer(labels * 4);
   delta_ = buffer(padded * 4);
   GrowJob(kInitialJobInts);

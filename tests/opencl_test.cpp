@@ -284,6 +284,7 @@ TEST_P(WorkShapeTest, EveryStageMatchesTheHost) {
   for (const auto& [width, height, radius] :
        std::vector<std::tuple<int, int, int>>{{1, 1, 0},
                                               {5, 3, 1},
+                                              {9, 3, 4},  // the window wider than the map
                                               {33, 17, 2},
                                               {37, 61, 4},
                                               {300, 300, 4},
