@@ -62,7 +62,7 @@ void RunPipeline(benchmark::State& state, const std::string& log, bool indoor, B
     }
     if (gap_ms > 0) {
       // Between two scans of a sensor the backend's threads go idle (TBB's workers stop
-      // spinning, PoCL's sleep), and the caches serve whatever else runs.
+      // spinning, PoCL's go to sleep), and the caches serve whatever else runs.
       state.PauseTiming();
       std::this_thread::sleep_for(std::chrono::milliseconds(gap_ms));
       state.ResumeTiming();
