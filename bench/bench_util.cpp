@@ -50,10 +50,41 @@ std::unique_ptr<StageInput> MakeStageInput(int cells) {
   return in;
 }
 
-std::unique_ptr<Backend> MakeBackend(BackendKind kind, const KernelParams& params,
-                                     std::string* why) {
+namespace {
+
+constexpr const char* kPocl = "Portable Computing Language";
+
+// Whether PoCL lists a device whose name starts with `prefix` ("pthread-<cpu>", "basic-<cpu>").
+bool PoclLists(const std::string& prefix) {
+  for (const ComputePlatform& p : ListComputeDevices(BackendConfig{}).platforms) {
+    if (p.name != kPocl) continue;
+    for (const ComputeDevice& d : p.devices) {
+      if (d.name.rfind(prefix, 0) == 0) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+BackendConfig BenchBackend(std::int64_t arg) {
   BackendConfig config;
-  config.kind = kind;
+  config.kind = arg == 0 ? BackendKind::kTbb : BackendKind::kOpenCl;
+  if (arg == 1) {
+    static const bool pthread = PoclLists("pthread-");
+    if (pthread) {
+      config.opencl_platform = kPocl;
+      config.opencl_device = "pthread-";
+    }
+  } else if (arg == 2) {
+    config.opencl_platform = kPocl;
+    config.opencl_device = "basic-";
+  }
+  return config;
+}
+
+std::unique_ptr<Backend> MakeBackend(const BackendConfig& config, const KernelParams& params,
+                                     std::string* why) {
   try {
     return CreateBackend(config, params);
   } catch (const std::exception& e) {
@@ -62,6 +93,15 @@ std::unique_ptr<Backend> MakeBackend(BackendKind kind, const KernelParams& param
   }
 }
 
-const char* BackendName(BackendKind kind) { return ToString(kind); }
-
 }  // namespace freespace::bench
+
+// PoCL lists only its pthread device unless POCL_DEVICES names others; the benchmarks ask for
+// both CPU devices (backend 2 is the basic one) unless the caller chose.
+int main(int argc, char** argv) {
+  setenv("POCL_DEVICES", "pthread basic", 0);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

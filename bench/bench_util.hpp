@@ -5,6 +5,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -37,10 +38,17 @@ struct StageInput {
 // Builds the StageInput from the KITTI frame; null when the data is absent.
 std::unique_ptr<StageInput> MakeStageInput(int cells);
 
-// Creates a backend of `kind`; null (with the reason) when it cannot run here.
-std::unique_ptr<Backend> MakeBackend(BackendKind kind, const KernelParams& params,
-                                     std::string* why);
+// The backends the benchmarks compare, by their `backend` argument:
+//   0  TBB;
+//   1  OpenCL on the device the engine's rule takes, except that where PoCL lists its pthread
+//      device (a worker pool) that one is taken;
+//   2  OpenCL on PoCL's basic device (the kernels run on the thread that enqueues them); a case
+//      says why it cannot run where PoCL does not list it.
+// FREESPACE_OPENCL_PLATFORM / FREESPACE_OPENCL_DEVICE replace these filters, as in the engine.
+BackendConfig BenchBackend(std::int64_t arg);
 
-const char* BackendName(BackendKind kind);
+// Creates the backend of `config`; null (with the reason) when it cannot run here.
+std::unique_ptr<Backend> MakeBackend(const BackendConfig& config, const KernelParams& params,
+                                     std::string* why);
 
 }  // namespace freespace::bench

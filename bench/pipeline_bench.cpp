@@ -12,7 +12,7 @@
 namespace freespace::bench {
 namespace {
 
-void RunPipeline(benchmark::State& state, const std::string& log, bool indoor, BackendKind kind,
+void RunPipeline(benchmark::State& state, const std::string& log, bool indoor, std::int64_t backend,
                  OpenClWait wait, int gap_ms = 0) {
   SensorConfig sensor;
   const std::vector<Scan> scans = LoadScans(log, &sensor);
@@ -21,7 +21,7 @@ void RunPipeline(benchmark::State& state, const std::string& log, bool indoor, B
     return;
   }
   Config config;
-  config.backend.kind = kind;
+  config.backend = BenchBackend(backend);
   config.backend.opencl_wait = wait;
   // FREESPACE_BENCH_THREADS: TBB worker threads (backend.threads; unset or 0 = all cores).
   if (const char* env = std::getenv("FREESPACE_BENCH_THREADS")) {
@@ -40,7 +40,7 @@ void RunPipeline(benchmark::State& state, const std::string& log, bool indoor, B
   }
   std::string label =
       estimator->backend_name() + " " + std::to_string(cells) + "x" + std::to_string(cells);
-  if (kind == BackendKind::kOpenCl) label += std::string(" wait ") + ToString(wait);
+  if (config.backend.kind == BackendKind::kOpenCl) label += std::string(" wait ") + ToString(wait);
   state.SetLabel(label);
   std::size_t next = 0;
   double t = 0.0;
@@ -95,34 +95,33 @@ void RunPipeline(benchmark::State& state, const std::string& log, bool indoor, B
 constexpr const char* kIntel = "carmen/intel-corrected.log";
 constexpr const char* kKitti = "kitti/kitti_00_000000.bin";
 
-// The default config (OpenCL waits as `auto` does), backend 0 TBB, 1 OpenCL.
+// The default config (OpenCL waits as `auto` does); backend 0 TBB, 1 OpenCL, 2 OpenCL on PoCL's
+// basic device (BenchBackend).
 void BM_PipelineIntel(benchmark::State& state) {
-  RunPipeline(state, kIntel, true, BackendKind(state.range(0)), OpenClWait::kAuto);
+  RunPipeline(state, kIntel, true, state.range(0), OpenClWait::kAuto);
 }
 void BM_PipelineKitti(benchmark::State& state) {
-  RunPipeline(state, kKitti, false, BackendKind(state.range(0)), OpenClWait::kAuto);
+  RunPipeline(state, kKitti, false, state.range(0), OpenClWait::kAuto);
 }
 
-// Scans gap_ms apart (arg 2), backend 0 TBB, 1 OpenCL.
+// Scans gap_ms apart (arg 2), backend as above.
 void BM_PacedIntel(benchmark::State& state) {
-  RunPipeline(state, kIntel, true, BackendKind(state.range(0)), OpenClWait::kAuto,
-              int(state.range(2)));
+  RunPipeline(state, kIntel, true, state.range(0), OpenClWait::kAuto, int(state.range(2)));
 }
 void BM_PacedKitti(benchmark::State& state) {
-  RunPipeline(state, kKitti, false, BackendKind(state.range(0)), OpenClWait::kAuto,
-              int(state.range(2)));
+  RunPipeline(state, kKitti, false, state.range(0), OpenClWait::kAuto, int(state.range(2)));
 }
 
-// The OpenCL backend per backend.opencl_wait: 0 auto, 1 block, 2 spin.
+// The OpenCL backend (BenchBackend 1) per backend.opencl_wait: 0 auto, 1 block, 2 spin.
 void BM_OpenClWaitIntel(benchmark::State& state) {
-  RunPipeline(state, kIntel, true, BackendKind::kOpenCl, OpenClWait(state.range(0)));
+  RunPipeline(state, kIntel, true, 1, OpenClWait(state.range(0)));
 }
 void BM_OpenClWaitKitti(benchmark::State& state) {
-  RunPipeline(state, kKitti, false, BackendKind::kOpenCl, OpenClWait(state.range(0)));
+  RunPipeline(state, kKitti, false, 1, OpenClWait(state.range(0)));
 }
 
 void Sizes(benchmark::internal::Benchmark* b) {
-  for (const int backend : {0, 1}) {
+  for (const int backend : {0, 1, 2}) {
     for (const int cells : {300, 1500}) b->Args({backend, cells});
   }
   b->ArgNames({"backend", "cells"})->Unit(benchmark::kMicrosecond);
@@ -131,7 +130,7 @@ void Sizes(benchmark::internal::Benchmark* b) {
 // 10 ms apart: a scanner at up to 100 Hz. A fixed number of scans, since the untimed gaps
 // would otherwise stretch a run to minutes.
 void PacedSizes(benchmark::internal::Benchmark* b) {
-  for (const int backend : {0, 1}) {
+  for (const int backend : {0, 1, 2}) {
     for (const int cells : {300, 1500}) b->Args({backend, cells, 10});
   }
   b->ArgNames({"backend", "cells", "gap_ms"})->Unit(benchmark::kMicrosecond)->Iterations(100);

@@ -1,9 +1,10 @@
 // One benchmark per kernel stage, per backend and map size, on a real ScaLa-like scan (a KITTI
-// frame cut to 4 layers and 145 deg). Arguments: backend (0 tbb, 1 opencl), map side in cells.
-// Each iteration ends with Backend::Finish(), so an asynchronous backend is timed to the end of
-// its work, not to the end of enqueueing it; that wall time includes its per-call latency
-// (waking the device, the final wait). Where the backend measures itself (OpenCL event
-// profiling), the counter device_us is the stage's mean device time, outside the timed region.
+// frame cut to 4 layers and 145 deg). Arguments: backend (0 tbb, 1 opencl, 2 opencl on PoCL's basic
+// device: BenchBackend), map side in cells. Each iteration ends with Backend::Finish(), so an
+// asynchronous backend is timed to the end of its work, not to the end of enqueueing it; that wall
+// time includes its per-call latency (waking the device, the final wait). Where the backend
+// measures itself (OpenCL event profiling), the counter device_us is the stage's mean device time,
+// outside the timed region.
 #include "bench_util.hpp"
 #include "polygon.hpp"
 
@@ -21,20 +22,20 @@ struct Stage {
       return false;
     }
     std::string why;
-    backend = MakeBackend(BackendKind(state.range(0)), input->params, &why);
+    backend = MakeBackend(BenchBackend(state.range(0)), input->params, &why);
     if (!backend) {
       state.SkipWithError(("backend unavailable: " + why).c_str());
       return false;
     }
     backend->WriteLogOdds(input->map.data());
-    state.SetLabel(std::string(BackendName(BackendKind(state.range(0)))) + " " +
-                   std::to_string(state.range(1)) + "x" + std::to_string(state.range(1)));
+    state.SetLabel(backend->name() + " " + std::to_string(state.range(1)) + "x" +
+                   std::to_string(state.range(1)));
     return true;
   }
 
   // Adds the backend's own time of the stage `field` of the last iteration, if it has one.
   void Collect(benchmark::State& state, double StageTimes::*field) {
-    if (BackendKind(state.range(0)) == BackendKind::kTbb) return;
+    if (state.range(0) == 0) return;  // TBB
     state.PauseTiming();
     StageTimes times;
     if (backend->KernelTimes(&times)) {
@@ -144,8 +145,9 @@ void BM_Polygon(benchmark::State& state) {
   state.counters["vertices"] = double(kept.size());
 }
 
+// backend: 0 TBB, 1 OpenCL, 2 OpenCL on PoCL's basic device (BenchBackend).
 void Sizes(benchmark::internal::Benchmark* b) {
-  for (const int backend : {0, 1}) {
+  for (const int backend : {0, 1, 2}) {
     for (const int cells : {300, 1500}) b->Args({backend, cells});
   }
   b->ArgNames({"backend", "cells"})->Unit(benchmark::kMicrosecond);
