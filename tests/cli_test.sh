@@ -91,6 +91,30 @@ EOF
   grep -q "no usable OpenCL device matches platform \"\" (config) and device \"no-such-device\" (FREESPACE_OPENCL_DEVICE)" \
     "$out/devices-none.err" || fail "devices does not say why: $(cat "$out/devices-none.err")"
   grep -q '^  \* ' "$out/devices-none.txt" && fail "devices marked a device that does not match"
+  # PoCL's basic device: `devices` says how to list it, lists it with POCL_DEVICES, and a run on
+  # it writes the same polygons.jsonl as tbb.
+  if grep -q '^  platform "Portable Computing Language"' "$out/devices.txt" \
+    && grep -q '"pthread-' "$out/devices.txt" && ! grep -q '"basic-' "$out/devices.txt"; then
+    grep -q 'is listed with POCL_DEVICES="pthread basic"' "$out/devices.txt" \
+      || fail "devices does not say how to list PoCL's basic device: $(cat "$out/devices.txt")"
+    POCL_DEVICES="pthread basic" "$bin" devices >"$out/devices-basic.txt" \
+      || fail "devices with POCL_DEVICES=\"pthread basic\" failed"
+    grep -q '^  . cpu "basic-' "$out/devices-basic.txt" \
+      || fail "POCL_DEVICES=\"pthread basic\" does not list basic: $(cat "$out/devices-basic.txt")"
+    grep -q 'is listed with POCL_DEVICES' "$out/devices-basic.txt" \
+      && fail "devices says how to list the basic device although it is listed"
+    POCL_DEVICES="pthread basic" FREESPACE_OPENCL_DEVICE=basic- "$bin" run --log "$log" \
+      --out "$out/opencl-basic" --backend opencl --snapshot-every 0 --quiet \
+      2>"$out/opencl-basic.err" || fail "run on PoCL's basic device failed: $(cat "$out/opencl-basic.err")"
+    grep -q "backend opencl: basic-" "$out/opencl-basic.err" \
+      || fail "run did not take PoCL's basic device: $(cat "$out/opencl-basic.err")"
+    cmp "$out/tbb/polygons.jsonl" "$out/opencl-basic/polygons.jsonl" \
+      || fail "PoCL's basic device and --backend tbb wrote different polygons.jsonl"
+    echo "cli: PoCL's basic device and --backend tbb wrote identical polygons.jsonl"
+  else
+    echo "SKIP: PoCL's basic device: no PoCL platform listing its pthread device alone here" \
+      "(POCL_DEVICES=${POCL_DEVICES:-unset})"
+  fi
 elif [ $rc -eq 2 ] && grep -q "backend opencl" "$out/opencl.err"; then
   echo "SKIP: backend comparison: --backend opencl is not available here: $(grep -m1 "backend opencl" "$out/opencl.err")"
 else
