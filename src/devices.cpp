@@ -22,4 +22,14 @@ DeviceList ListComputeDevices(const BackendConfig& config) {
   return list;
 }
 
+bool PoclHidesBasicDevice(const ComputePlatform& platform) {
+  if (platform.name != "Portable Computing Language") return false;
+  bool pthread = false, basic = false;
+  for (const ComputeDevice& d : platform.devices) {
+    pthread = pthread || d.name.rfind("pthread-", 0) == 0;
+    basic = basic || d.name.rfind("basic-", 0) == 0;
+  }
+  return pthread && !basic;
+}
+
 }  // namespace freespace

@@ -206,6 +206,14 @@ void ListDevices(const BackendConfig& config, DeviceList* list,
     message << "backend opencl: no usable OpenCL device matches platform \""
             << list->platform_filter << "\" (" << list->platform_origin << ") and device \""
             << list->device_filter << "\" (" << list->device_origin << "); found:" << seen.str();
+    if (list->device_filter.find("basic") != std::string::npos) {
+      for (const ComputePlatform& p : list->platforms) {
+        if (!PoclHidesBasicDevice(p)) continue;
+        message << "\n  (PoCL lists its basic device only when POCL_DEVICES names it: "
+                   "POCL_DEVICES=\"pthread basic\")";
+        break;
+      }
+    }
     list->error = message.str();
   }
 }

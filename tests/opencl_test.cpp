@@ -82,6 +82,34 @@ TEST(OpenClRuntime, DeviceFilterMatchingNothingNamesTheDevicesFound) {
   EXPECT_THROW(CreateBackend(config, test::SmallParams(4, 4)), BackendError);
 }
 
+// Asking for PoCL's basic device where PoCL lists only its pthread one: the error says how to
+// list it; where the basic device is listed, the filter takes it.
+TEST(OpenClRuntime, PoclBasicDeviceIsTakenOrTheErrorSaysHowToListIt) {
+  const NoEnvOverrides no_overrides;
+  FREESPACE_DEVICE_OR_SKIP(found);
+  const DeviceList list = ListComputeDevices(BackendConfig{});
+  bool pocl = false, hidden = false;
+  for (const ComputePlatform& p : list.platforms) {
+    pocl = pocl || p.name == "Portable Computing Language";
+    hidden = hidden || PoclHidesBasicDevice(p);
+  }
+  if (!pocl) GTEST_SKIP() << "no PoCL platform here (found " << found.platform_name << ")";
+  BackendConfig config;
+  config.opencl_platform = "Portable Computing Language";
+  config.opencl_device = "basic-";
+  const std::string message = ErrorOf(config);
+  if (hidden) {
+    EXPECT_NE(message.find("POCL_DEVICES=\"pthread basic\""), std::string::npos) << message;
+    EXPECT_NE(message.find("no usable OpenCL device matches"), std::string::npos) << message;
+  } else {
+    EXPECT_TRUE(message.empty()) << message;
+    EXPECT_EQ(opencl::ChooseDevice(config).device_name.rfind("basic-", 0), 0u);
+  }
+  // Any other filter that matches nothing gets no such hint.
+  config.opencl_device = "no-such-device";
+  EXPECT_EQ(ErrorOf(config).find("POCL_DEVICES"), std::string::npos);
+}
+
 TEST(OpenClRuntime, PlatformFilterMatchingNothingThrows) {
   const NoEnvOverrides no_overrides;
   FREESPACE_DEVICE_OR_SKIP(found);

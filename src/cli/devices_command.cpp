@@ -30,18 +30,6 @@ const ComputeDevice* Chosen(const DeviceList& list, const ComputePlatform** plat
   return nullptr;
 }
 
-// Whether `p` is PoCL listing its pthread device but not its basic one, which it lists only
-// when POCL_DEVICES names it (docs/opencl.md, "PoCL's two CPU devices").
-bool HidesPoclBasic(const ComputePlatform& p) {
-  if (p.name != "Portable Computing Language") return false;
-  bool pthread = false, basic = false;
-  for (const ComputeDevice& d : p.devices) {
-    pthread = pthread || d.name.rfind("pthread-", 0) == 0;
-    basic = basic || d.name.rfind("basic-", 0) == 0;
-  }
-  return pthread && !basic;
-}
-
 nlohmann::json ToJson(const DeviceList& list) {
   nlohmann::json platforms = nlohmann::json::array();
   for (const ComputePlatform& p : list.platforms) {
@@ -132,7 +120,7 @@ int Devices(const DevicesOptions& options) {
               d.opencl_c_version.c_str(), d.driver_version.c_str(),
               d.available ? "" : " (not available)", d.compiler ? "" : " (no compiler)");
         }
-        if (HidesPoclBasic(p)) {
+        if (PoclHidesBasicDevice(p)) {
           std::printf(
               "    (PoCL's \"basic\" device, which runs the kernels on the calling thread, is "
               "listed with POCL_DEVICES=\"pthread basic\")\n");
