@@ -52,12 +52,10 @@ std::unique_ptr<StageInput> MakeStageInput(int cells) {
 
 namespace {
 
-constexpr const char* kPocl = "Portable Computing Language";
-
 // Whether PoCL lists a device whose name starts with `prefix` ("pthread-<cpu>", "basic-<cpu>").
 bool PoclLists(const std::string& prefix) {
   for (const ComputePlatform& p : ListComputeDevices(BackendConfig{}).platforms) {
-    if (p.name != kPocl) continue;
+    if (p.name != kPoclPlatform) continue;
     for (const ComputeDevice& d : p.devices) {
       if (d.name.rfind(prefix, 0) == 0) return true;
     }
@@ -73,11 +71,11 @@ BackendConfig BenchBackend(std::int64_t arg) {
   if (arg == 1) {
     static const bool pthread = PoclLists("pthread-");
     if (pthread) {
-      config.opencl_platform = kPocl;
+      config.opencl_platform = kPoclPlatform;
       config.opencl_device = "pthread-";
     }
   } else if (arg == 2) {
-    config.opencl_platform = kPocl;
+    config.opencl_platform = kPoclPlatform;
     config.opencl_device = "basic-";
   }
   return config;

@@ -23,7 +23,7 @@ DeviceList ListComputeDevices(const BackendConfig& config) {
 }
 
 bool PoclHidesBasicDevice(const ComputePlatform& platform) {
-  if (platform.name != "Portable Computing Language") return false;
+  if (platform.name != kPoclPlatform) return false;
   bool pthread = false, basic = false;
   for (const ComputeDevice& d : platform.devices) {
     pthread = pthread || d.name.rfind("pthread-", 0) == 0;

@@ -90,12 +90,12 @@ TEST(OpenClRuntime, PoclBasicDeviceIsTakenOrTheErrorSaysHowToListIt) {
   const DeviceList list = ListComputeDevices(BackendConfig{});
   bool pocl = false, hidden = false;
   for (const ComputePlatform& p : list.platforms) {
-    pocl = pocl || p.name == "Portable Computing Language";
+    pocl = pocl || p.name == kPoclPlatform;
     hidden = hidden || PoclHidesBasicDevice(p);
   }
   if (!pocl) GTEST_SKIP() << "no PoCL platform here (found " << found.platform_name << ")";
   BackendConfig config;
-  config.opencl_platform = "Portable Computing Language";
+  config.opencl_platform = kPoclPlatform;
   config.opencl_device = "basic-";
   const std::string message = ErrorOf(config);
   if (hidden) {

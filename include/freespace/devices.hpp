@@ -46,6 +46,9 @@ struct DeviceList {
 // with `config`. Never throws for a missing platform or device: that is `error`.
 DeviceList ListComputeDevices(const BackendConfig& config);
 
+// The name PoCL gives its platform.
+inline constexpr const char* kPoclPlatform = "Portable Computing Language";
+
 // Whether `platform` is PoCL listing its pthread CPU device but not its basic one, which PoCL
 // lists only when POCL_DEVICES names it (POCL_DEVICES="pthread basic"; docs/opencl.md, "PoCL's
 // two CPU devices").
