@@ -94,8 +94,7 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     : Backend(params),
       device_(opencl::DeviceContext::Get(opencl::ChooseDevice(config))),
       name_("opencl: " + device_->choice().device_name),
-      wait_(config.opencl_wait),
-      spin_us_(config.opencl_spin_us) {
+      wait_(config.opencl_wait, config.opencl_spin_us) {
   const int width = params.width, height = params.height, h = params.opening_radius;
   if (width < 1 || height < 1 || h < 0) {
     throw BackendError("backend opencl: bad map size " + std::to_string(width) + " x " +
@@ -599,15 +598,14 @@ void OpenClBackend::WaitForResult(cl_event event) {
   // A blocking wait puts this thread to sleep until a thread of the device's driver wakes it;
   // on a CPU device that is one more thread to schedule, and the wake-up can cost more than a
   // small map's whole scan. Spinning avoids it but keeps a core busy that the device's threads
-  // might use, so `auto` spins only while scans are short.
+  // might use, which can cost more than the wake-up; WaitPolicy chooses.
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
   const auto waited_us = [&] {
     return std::chrono::duration<double, std::micro>(Clock::now() - start).count();
   };
-  const bool spin =
-      wait_ == OpenClWait::kSpin || (wait_ == OpenClWait::kAuto && typical_wait_us_ < spin_us_);
-  if (spin) {
+  if (wait_.Next()) {
+    const double limit_us = wait_.SpinLimitUs();
     Check(clFlush(queue_.get()), "clFlush");
     cl_int status = CL_QUEUED;
     for (unsigned i = 1;; ++i) {
@@ -616,14 +614,11 @@ void OpenClBackend::WaitForResult(cl_event event) {
           "clGetEventInfo");
       if (status <= CL_COMPLETE) break;  // done, or failed (clWaitForEvents reports it)
       CpuRelax();
-      if (wait_ == OpenClWait::kAuto && i % 64 == 0 && waited_us() >= spin_us_) break;
+      if (limit_us >= 0 && i % 64 == 0 && waited_us() >= limit_us) break;
     }
   }
   Check(clWaitForEvents(1, &event), "clWaitForEvents");
-  // A running mean over about the last 8 scans, so that one slow scan does not switch it.
-  const double waited = waited_us();
-  typical_wait_us_ =
-      typical_wait_us_ < 0 ? waited : typical_wait_us_ + (waited - typical_wait_us_) / 8;
+  wait_.Record(waited_us());
 }
 
 void OpenClBackend::Shift(int dx, int dy) {

@@ -14,6 +14,7 @@
 
 #include "backend.hpp"
 #include "opencl_runtime.hpp"
+#include "wait_policy.hpp"
 
 namespace freespace {
 
@@ -120,9 +121,7 @@ class OpenClBackend final : public Backend {
   int raster_group_ = 1;
   bool bands_ = false;  // stage 1 as rasterize_bands (the CPU shape)
   std::size_t compute_units_ = 1;
-  OpenClWait wait_ = OpenClWait::kAuto;
-  double spin_us_ = 0.0;         // BackendConfig::opencl_spin_us
-  double typical_wait_us_ = -1;  // WaitForResult()'s time, averaged over recent scans; -1 none
+  WaitPolicy wait_;  // BackendConfig::opencl_wait, opencl_spin_us
 
   // Device buffers, per-cell ones in the padded layout. The map lives in map_[current_]; the
   // shift writes the other one and flips current_. Kernels that touch the map exist once per

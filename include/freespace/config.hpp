@@ -107,8 +107,8 @@ enum class BackendKind { kTbb, kOpenCl, kAuto };
 
 // How the host waits for a scan's result from an OpenCL device (docs/opencl.md): blocking
 // (the thread sleeps until a thread of the driver wakes it), spinning (it polls the result,
-// keeping a core busy meanwhile), or auto: spinning while both the mean wait of the last scans
-// (about 8) and this scan's wait so far are under opencl_spin_us, blocking otherwise.
+// keeping a core busy meanwhile), or auto: the way whose recent waits were shorter (each way
+// timed on its own, the other one tried one wait in 32), a spin giving up after opencl_spin_us.
 enum class OpenClWait { kAuto, kBlock, kSpin };
 
 struct BackendConfig {
@@ -117,7 +117,7 @@ struct BackendConfig {
   std::string opencl_platform;  // substring of the platform name; empty = first with a device
   std::string opencl_device;    // substring of the device name; empty = first
   OpenClWait opencl_wait = OpenClWait::kAuto;
-  int opencl_spin_us = 250;  // the auto wait's limit, microseconds; 0 .. 100000
+  int opencl_spin_us = 250;  // auto's longest spin, microseconds; 0 (never spin) .. 100000
 };
 
 struct Config {

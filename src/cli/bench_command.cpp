@@ -374,7 +374,7 @@ int Run(const BenchOptions& options) {
   for (const PipelineRun& r : runs) {
     std::string wait;
     if (r.opencl_wait == "auto") {
-      wait = ", wait auto (spin under " + std::to_string(r.opencl_spin_us) + " us)";
+      wait = ", wait auto (spins at most " + std::to_string(r.opencl_spin_us) + " us)";
     } else if (!r.opencl_wait.empty()) {
       wait = ", wait " + r.opencl_wait;
     }
