@@ -27,6 +27,7 @@ void HostBackend::Fuse(int row_begin, int row_end) {
   const int r0 = std::max(row_begin, 0);
   const int r1 = std::min(row_end, params_.height);
   if (r0 >= r1) return;
+  known_ = known_.Hull({r0, r1});
   const int width = params_.width;
   const KernelParams p = params_;
   const std::uint8_t* update = update_.data();

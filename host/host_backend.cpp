@@ -35,11 +35,15 @@ HostBackend::HostBackend(const KernelParams& params, int threads)
 
 void HostBackend::Clear() {
   std::fill(map_.begin(), map_.end(), LogOdds{0});
+  known_ = {};
   std::fill(free_.begin(), free_.end(), std::uint64_t{0});
 }
 
 void HostBackend::ReadLogOdds(LogOdds* dst) { std::memcpy(dst, map_.data(), cells() * 2); }
-void HostBackend::WriteLogOdds(const LogOdds* src) { std::memcpy(map_.data(), src, cells() * 2); }
+void HostBackend::WriteLogOdds(const LogOdds* src) {
+  std::memcpy(map_.data(), src, cells() * 2);
+  known_ = {0, params_.height};
+}
 void HostBackend::ReadUpdateMask(std::uint8_t* dst) { std::memcpy(dst, update_.data(), cells()); }
 void HostBackend::WriteUpdateMask(const std::uint8_t* src) {
   std::memcpy(update_.data(), src, cells());

@@ -54,6 +54,7 @@ void HostBackend::CastRays(const RayJob& job) {
 void HostBackend::FuseRays(int row_begin, int row_end) {
   const int r0 = std::max(row_begin, 0), r1 = std::min(row_end, params_.height);
   if (r0 >= r1) return;
+  known_ = known_.Hull({r0, r1});
   const int width = params_.width, l_min = params_.l_min, l_max = params_.l_max;
   arena_.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(r0, r1, 16),

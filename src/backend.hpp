@@ -4,6 +4,7 @@
 // must give bit-identical results; CreateBackend() picks one from the config.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -83,6 +84,27 @@ inline CellIndex BorderCell(int label0, int height, int width) {
   return {height - 1, 2 * height + 2 * width - l};
 }
 inline int BorderLabelCount(int height, int width) { return 2 * height + 2 * width; }
+
+// Rows [begin, end) of a map; empty when begin >= end. The backends keep one for each map
+// buffer, holding every row with a known (non-zero) cell, so that the map shift copies and
+// clears only those instead of the whole map: around a vehicle most of a large map is unknown.
+struct RowSpan {
+  int begin = 0;
+  int end = 0;
+
+  bool empty() const { return begin >= end; }
+  // The smallest span holding both.
+  RowSpan Hull(RowSpan other) const {
+    if (empty()) return other;
+    if (other.empty()) return *this;
+    return {std::min(begin, other.begin), std::max(end, other.end)};
+  }
+  // Where these rows go in the map shift new(r) = old(r + dy), clipped to [0, height).
+  RowSpan Shifted(int dy, int height) const {
+    const RowSpan moved{std::max(begin - dy, 0), std::min(end - dy, height)};
+    return empty() || moved.empty() ? RowSpan{} : moved;
+  }
+};
 
 class Backend {
  public:

@@ -483,12 +483,24 @@ void OpenClBackend::Fuse(int row_begin, int row_end) {
     // The row pass, the pending shift (every row) or none (the rasterized rows), the fusion.
     opencl::Event event;
     if (shift_pending_) {
+      // Rows outside `rows` are unknown before and after (and on no level), so the pass
+      // leaves them alone.
+      const int to = 1 - current_;
+      const RowSpan fused{r0, r1};
+      const RowSpan next = known_[current_].Shifted(pending_dy_, params_.height).Hull(fused);
+      const RowSpan rows = unknown_off_levels_ ? next.Hull(known_[to]).Hull(level_rows_[to])
+                                               : RowSpan{0, params_.height};
       const cl_kernel kernel = row_fuse_[current_][1].get();
       SetArg(kernel, bands_ ? 15 : 14, cl_int(levels_valid_ && unknown_off_levels_));
-      RowPass(kernel, pending_dx_, pending_dy_, 0, params_.height, event.out());
-      levels_valid_ = true;  // it wrote every row
+      RowPass(kernel, pending_dx_, pending_dy_, rows.begin, rows.end, event.out());
+      levels_valid_ = true;  // it wrote every row with a level bit
+      known_[to] = next;
+      // The rows it wrote outside `next` got no level bit (their map rows are unknown).
+      level_rows_[to] = unknown_off_levels_ ? next : rows;
     } else {
       RowPass(row_fuse_[current_][0].get(), 0, 0, r0, r1, event.out());
+      known_[current_] = known_[current_].Hull({r0, r1});
+      level_rows_[current_] = level_rows_[current_].Hull({r0, r1});
     }
     if (shift_pending_) current_ = 1 - current_;
     shift_pending_ = rows_pending_ = false;
@@ -500,6 +512,7 @@ void OpenClBackend::Fuse(int row_begin, int row_end) {
   if (r0 >= r1) return;
   const cl_kernel kernel = fuse_[current_].get();
   levels_valid_ = false;
+  known_[current_] = known_[current_].Hull({r0, r1});
   SetArg(kernel, 2, cl_int(r0));
   SetArg(kernel, 3, cl_int(r1));
   opencl::Event event;
@@ -530,12 +543,18 @@ void OpenClBackend::FuseRays(int row_begin, int row_end) {
   if (r0 >= r1) return;
   const cl_kernel kernel = rays_fuse_[current_].get();
   levels_valid_ = false;
+  known_[current_] = known_[current_].Hull({r0, r1});
   SetArg(kernel, 2, cl_int(r0));
   SetArg(kernel, 3, cl_int(r1));
   opencl::Event event;
   RowsLaunch(kernel, r1 - r0, event.out());
   opencl::Event again = Retained(event.get());
   SetStage(kFuseStage, std::move(event), std::move(again));
+}
+
+void OpenClBackend::LevelsWritten() {
+  levels_valid_ = true;
+  level_rows_[current_] = unknown_off_levels_ ? known_[current_] : RowSpan{0, params_.height};
 }
 
 void OpenClBackend::Classify() {
@@ -547,7 +566,7 @@ void OpenClBackend::Classify() {
     if (!levels_valid_) {
       BitsLaunch(levels_[current_].get(), height, begin.out());
       Launch(classify_bands_[current_].get(), 1, &classify_bands_count_, &one, end.out());
-      levels_valid_ = true;
+      LevelsWritten();
     } else {
       Launch(classify_bands_[current_].get(), 1, &classify_bands_count_, &one, begin.out());
       end = Retained(begin.get());
@@ -558,7 +577,7 @@ void OpenClBackend::Classify() {
   if (!levels_valid_) {
     BitsLaunch(levels_[current_].get(), height, begin.out());
     BitsLaunch(hysteresis_[current_].get(), height, nullptr);
-    levels_valid_ = true;
+    LevelsWritten();
   } else {
     BitsLaunch(hysteresis_[current_].get(), height, begin.out());
   }
@@ -627,6 +646,7 @@ void OpenClBackend::Shift(int dx, int dy) {
   if (std::abs(dx) >= params_.width || std::abs(dy) >= params_.height) {
     levels_valid_ = false;
     Fill(map_[current_].get(), layout_.cells * sizeof(LogOdds));
+    known_[current_] = {};
     return;
   }
   // Deferred: two shifts in a row do not compose (the first one clips), so a second one
@@ -643,6 +663,7 @@ void OpenClBackend::FlushShift() {
   SetArg(kernel, 2, cl_int(pending_dx_));
   SetArg(kernel, 3, cl_int(pending_dy_));
   RowsLaunch(kernel, params_.height, nullptr);
+  known_[1 - current_] = known_[current_].Shifted(pending_dy_, params_.height);
   current_ = 1 - current_;
   levels_valid_ = false;
 }
@@ -656,6 +677,7 @@ void OpenClBackend::Clear() {
   Flush();
   levels_valid_ = false;
   Fill(map_[current_].get(), layout_.cells * sizeof(LogOdds));
+  known_[current_] = {};
   Fill(free_.get(), free_host_.size() * 8);
 }
 
@@ -714,6 +736,7 @@ void OpenClBackend::ReadLogOdds(LogOdds* dst) {
 void OpenClBackend::WriteLogOdds(const LogOdds* src) {
   Flush();
   levels_valid_ = false;
+  known_[current_] = {0, params_.height};
   WriteCells(map_[current_].get(), sizeof(LogOdds), src);
 }
 void OpenClBackend::ReadUpdateMask(std::uint8_t* dst) { ReadCells(update_.get(), 1, dst); }

@@ -111,6 +111,8 @@ class OpenClBackend final : public Backend {
   void RowPass(cl_kernel kernel, int dx, int dy, int first, int end, cl_event* event);
   void FlushShift();
   void FlushRows();
+  // strong_ / weak_ [current_] were just computed from the whole map.
+  void LevelsWritten();
 
   std::shared_ptr<opencl::DeviceContext> device_;
   std::string name_;
@@ -169,6 +171,11 @@ class OpenClBackend final : public Backend {
   // in) is on no level: unknown_off_levels_.
   bool levels_valid_ = false;
   bool unknown_off_levels_ = false;
+  // Every row of map_[k] with a non-zero cell lies in known_[k], and every row of strong_[k] /
+  // weak_[k] with a set bit in level_rows_[k]. With unknown_off_levels_ the row pass that
+  // shifts runs over the rows that can differ from unknown only (RowSpan, src/backend.hpp).
+  RowSpan known_[2];
+  RowSpan level_rows_[2];
 
   // Work sizes, fixed at construction.
   std::size_t row_items_ = 1;                     // work-items per row of kernels over cells
