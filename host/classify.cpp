@@ -191,22 +191,36 @@ void HostBackend::Classify() {
   std::uint64_t* b = bits_b_.data();
   std::uint64_t* f = free_.data();
 
-  auto rows = [this, height](auto&& body) {
+  // Where an unknown cell is on no level (t_high < 0, as every valid config has it), the rows
+  // outside known_ have no level bit, so free0 and both erosions are empty there, and the free
+  // mask is empty outside known_ widened by h. Each pass then writes the rows it can set plus
+  // those it set last time (written_, now cleared), instead of the whole map.
+  const bool sparse = t_high < 0;
+  const RowSpan all{0, height};
+  const RowSpan set = sparse ? known_ : all;
+  const RowSpan set_free =
+      sparse ? RowSpan{std::max(set.begin - h, 0), std::min(set.end + h, height)} : all;
+  auto rows = [this](RowSpan span, auto&& body) {
+    if (span.empty()) return;
     arena_.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<int>(0, height, 16),
+      tbb::parallel_for(tbb::blocked_range<int>(span.begin, span.end, 16),
                         [&](const tbb::blocked_range<int>& range) {
                           for (int r = range.begin(); r != range.end(); ++r) body(r);
                         });
     });
   };
-  rows([=](int r) { LevelRow(map + r * w, strong + r * nw, weak + r * nw, width, t_low, t_high); });
-  rows([=](int r) {
+  rows(set.Hull(written_.levels),
+       [=](int r) { LevelRow(map + r * w, strong + r * nw, weak + r * nw, width, t_low, t_high); });
+  rows(set.Hull(written_.a), [=](int r) {
     HysteresisErodeRow(r > 0 ? strong + (r - 1) * nw : nullptr, strong + r * nw,
                        r + 1 < height ? strong + (r + 1) * nw : nullptr, weak + r * nw, a + r * nw,
                        words, h);
   });
-  rows([=](int r) { ErodeColumnsDilateRow(a, words, r, height, h, valid_last, b + r * nw); });
-  rows([=](int r) { DilateColumnsRow(b, words, r, height, h, f + r * nw); });
+  rows(set.Hull(written_.b),
+       [=](int r) { ErodeColumnsDilateRow(a, words, r, height, h, valid_last, b + r * nw); });
+  rows(set_free.Hull(written_.free),
+       [=](int r) { DilateColumnsRow(b, words, r, height, h, f + r * nw); });
+  written_ = {set, set, set, set_free};
 }
 
 }  // namespace freespace

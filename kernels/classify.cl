@@ -170,14 +170,16 @@ __kernel void classify_dilate_cols(__global const ulong* c, __global ulong* free
 #define CLASSIFY_RING (2 * OPENING_RADIUS + 1)
 #define CLASSIFY_BAND_ROWS (2 * CLASSIFY_RING + 1)
 
-// Stage 3 for the rows [g band, (g + 1) band) of work-item g; `scratch` holds
+// Stage 3 for the rows [row_first + g band, row_first + (g + 1) band) within [row_first,
+// row_end) of work-item g (the host leaves out rows it knows to be empty); `scratch` holds
 // CLASSIFY_BAND_ROWS bitset rows per work-item. Step t computes b of row t, the column erosion
 // and c of row t - OPENING_RADIUS (whose window of b ends at row t) and the free mask of row
 // t - 2 OPENING_RADIUS (whose window of c ends there), each where the band needs it.
 __kernel void classify_bands(__global const uint* strong, __global const uint* weak,
-                             __global ulong* scratch, __global ulong* free, int band) {
+                             __global ulong* scratch, __global ulong* free, int band,
+                             int row_first, int row_end) {
   const int g = get_global_id(0);
-  const int r0 = g * band, r1 = min(r0 + band, HEIGHT);
+  const int r0 = row_first + g * band, r1 = min(r0 + band, row_end);
   if (r0 >= r1) return;
   const int h = OPENING_RADIUS;
   __global ulong* b_ring = scratch + (size_t)g * CLASSIFY_BAND_ROWS * BIT_WORDS;

@@ -188,13 +188,11 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   bits_b_ = buffer(between_bytes);
   bits_c_ = buffer(between_bytes);
   free_ = buffer(mask_bytes);
-  // classify_bands: bands of whole rows, at most one per row.
-  const std::size_t band = (std::size_t(height) + kClassifyBandsPerUnit * compute_units_ - 1) /
-                           (kClassifyBandsPerUnit * compute_units_);
-  classify_bands_count_ = (std::size_t(height) + band - 1) / band;
-  // CLASSIFY_BAND_ROWS (classify.cl) bitset rows per band, in the CPU shape only.
-  band_rows_ = buffer(
-      bands_ ? classify_bands_count_ * std::size_t(4 * h + 3) * std::size_t(BitWords()) * 8 : 8);
+  // classify_bands: at most kClassifyBandsPerUnit bands of whole rows per compute unit, each
+  // CLASSIFY_BAND_ROWS (classify.cl) bitset rows of scratch, in the CPU shape only.
+  band_rows_ = buffer(bands_ ? kClassifyBandsPerUnit * compute_units_ * std::size_t(4 * h + 3) *
+                                   std::size_t(BitWords()) * 8
+                             : 8);
   stop_ = buffer(labels * 4);
   delta_ = buffer(padded * 4);
   GrowJob(kInitialJobInts);
@@ -271,7 +269,6 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     SetArg(classify_bands_[k].get(), 1, weak_[k].get());
     SetArg(classify_bands_[k].get(), 2, band_rows_.get());
     SetArg(classify_bands_[k].get(), 3, free_.get());
-    SetArg(classify_bands_[k].get(), 4, cl_int(band));
     SetArg(shift_[k].get(), 0, map_[k].get());
     SetArg(shift_[k].get(), 1, map_[1 - k].get());
   }
@@ -561,28 +558,38 @@ void OpenClBackend::Classify() {
   Flush();
   opencl::Event begin, end;
   const int height = params_.height;
-  if (bands_) {
-    const std::size_t one = 1;
-    if (!levels_valid_) {
-      BitsLaunch(levels_[current_].get(), height, begin.out());
-      Launch(classify_bands_[current_].get(), 1, &classify_bands_count_, &one, end.out());
-      LevelsWritten();
-    } else {
-      Launch(classify_bands_[current_].get(), 1, &classify_bands_count_, &one, begin.out());
-      end = Retained(begin.get());
-    }
-    SetStage(kClassifyStage, std::move(begin), std::move(end));
-    return;
-  }
-  if (!levels_valid_) {
+  const bool levels = !levels_valid_;
+  if (levels) {
     BitsLaunch(levels_[current_].get(), height, begin.out());
-    BitsLaunch(hysteresis_[current_].get(), height, nullptr);
     LevelsWritten();
-  } else {
-    BitsLaunch(hysteresis_[current_].get(), height, begin.out());
   }
-  BitsLaunch(erode_dilate_.get(), height, nullptr);
-  BitsLaunch(dilate_cols_.get(), height, end.out());
+  // With unknown_off_levels_ a row without a level bit has no free0 bit and no eroded one, so
+  // the free mask is empty outside level_rows_ widened by the opening radius.
+  const int h = params_.opening_radius;
+  const RowSpan level_rows = level_rows_[current_];
+  const RowSpan set = unknown_off_levels_ ? RowSpan{std::max(level_rows.begin - h, 0),
+                                                    std::min(level_rows.end + h, height)}
+                                          : RowSpan{0, height};
+  if (bands_) {
+    // The rows the free mask can have bits on, and those it had: the others stay empty.
+    RowSpan rows = set.Hull(free_rows_);
+    if (rows.empty()) rows = {0, 1};  // one row, so that the stage has its command
+    const std::size_t count = std::size_t(rows.end - rows.begin);
+    const std::size_t bands = std::min(count, kClassifyBandsPerUnit * compute_units_);
+    const std::size_t band = (count + bands - 1) / bands, global = (count + band - 1) / band;
+    const std::size_t one = 1;
+    const cl_kernel kernel = classify_bands_[current_].get();
+    SetArg(kernel, 4, cl_int(band));
+    SetArg(kernel, 5, cl_int(rows.begin));
+    SetArg(kernel, 6, cl_int(rows.end));
+    Launch(kernel, 1, &global, &one, levels ? end.out() : begin.out());
+    if (!levels) end = Retained(begin.get());
+  } else {
+    BitsLaunch(hysteresis_[current_].get(), height, levels ? nullptr : begin.out());
+    BitsLaunch(erode_dilate_.get(), height, nullptr);
+    BitsLaunch(dilate_cols_.get(), height, end.out());
+  }
+  free_rows_ = set;
   SetStage(kClassifyStage, std::move(begin), std::move(end));
 }
 
@@ -679,6 +686,7 @@ void OpenClBackend::Clear() {
   Fill(map_[current_].get(), layout_.cells * sizeof(LogOdds));
   known_[current_] = {};
   Fill(free_.get(), free_host_.size() * 8);
+  free_rows_ = {};
 }
 
 void OpenClBackend::Finish() {
@@ -760,6 +768,7 @@ void OpenClBackend::WriteFree(const std::uint8_t* src) {
   Flush();
   const int width = params_.width, nw = BitWords();
   std::fill(free_host_.begin(), free_host_.end(), std::uint64_t{0});
+  free_rows_ = {0, params_.height};
   for (int r = 0; r < params_.height; ++r) {
     for (int c = 0; c < width; ++c) {
       if (src[std::size_t(r) * width + c]) {

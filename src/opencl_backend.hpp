@@ -176,6 +176,8 @@ class OpenClBackend final : public Backend {
   // shifts runs over the rows that can differ from unknown only (RowSpan, src/backend.hpp).
   RowSpan known_[2];
   RowSpan level_rows_[2];
+  // Every row of free_ with a set bit.
+  RowSpan free_rows_;
 
   // Work sizes, fixed at construction.
   std::size_t row_items_ = 1;                     // work-items per row of kernels over cells
@@ -185,7 +187,6 @@ class OpenClBackend final : public Backend {
   std::size_t raster_local_[2] = {1, 1};          // rasterize_rows
   std::size_t edge_local_ = 1;                    // rasterize_edges, rays_cast
   std::size_t cast_local_ = 1, cast_global_ = 1;  // insight_cast
-  std::size_t classify_bands_count_ = 1;          // classify_bands: work-items, one per band
 
   std::vector<std::int32_t> job_host_;    // staging of the job upload
   std::vector<std::int32_t> stop_host_;   // stage 4: stop cells as read back
