@@ -297,7 +297,8 @@ bool RasterRowOf(int row_first, int row_end, int* r) {
 // (RASTER_GROUP, 1), work-group g rewrites row row_first + g of [row_first, row_end). With src
 // null it writes the mask of the rasterized rows only. With src == dst it also fuses the mask
 // into the map in place (kernel stage 2 in the same pass; dx = dy = 0). With a pending map
-// shift it runs over every row (row_first 0, row_end HEIGHT), writing
+// shift it runs over every row that can hold a known cell or a level bit, before or after
+// (the host's RowSpan bookkeeping; the others are unknown and on no level either way), writing
 // dst(r, c) = src(r + dy, c + dx) and fusing the rasterized rows on the way.
 // src/opencl_backend.cpp defers the row pass of Rasterize() to learn which.
 __kernel void rasterize_rows(__global const int* job, __global uint* toggles,

@@ -477,7 +477,8 @@ void OpenClBackend::RowPass(cl_kernel kernel, int dx, int dy, int first, int end
 void OpenClBackend::Fuse(int row_begin, int row_end) {
   const int r0 = std::max(row_begin, 0), r1 = std::min(row_end, params_.height);
   if (rows_pending_ && r0 == pending_begin_ && r1 == pending_end_) {
-    // The row pass, the pending shift (every row) or none (the rasterized rows), the fusion.
+    // The row pass, the pending shift (the rows that can hold a known cell) or none (the
+    // rasterized rows), the fusion.
     opencl::Event event;
     if (shift_pending_) {
       // Rows outside `rows` are unknown before and after (and on no level), so the pass
