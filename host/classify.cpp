@@ -198,8 +198,7 @@ void HostBackend::Classify() {
   const bool sparse = t_high < 0;
   const RowSpan all{0, height};
   const RowSpan set = sparse ? known_ : all;
-  const RowSpan set_free =
-      sparse ? RowSpan{std::max(set.begin - h, 0), std::min(set.end + h, height)} : all;
+  const RowSpan set_free = sparse ? set.Widened(h, height) : all;
   auto rows = [this](RowSpan span, auto&& body) {
     if (span.empty()) return;
     arena_.execute([&] {

@@ -99,6 +99,10 @@ struct RowSpan {
     if (other.empty()) return *this;
     return {std::min(begin, other.begin), std::max(end, other.end)};
   }
+  // These rows and the `h` on either side, clipped to [0, height).
+  RowSpan Widened(int h, int height) const {
+    return empty() ? RowSpan{} : RowSpan{std::max(begin - h, 0), std::min(end + h, height)};
+  }
   // Where these rows go in the map shift new(r) = old(r + dy), clipped to [0, height).
   RowSpan Shifted(int dy, int height) const {
     const RowSpan moved{std::max(begin - dy, 0), std::min(end - dy, height)};

@@ -567,10 +567,8 @@ void OpenClBackend::Classify() {
   // With unknown_off_levels_ a row without a level bit has no free0 bit and no eroded one, so
   // the free mask is empty outside level_rows_ widened by the opening radius.
   const int h = params_.opening_radius;
-  const RowSpan level_rows = level_rows_[current_];
-  const RowSpan set = unknown_off_levels_ ? RowSpan{std::max(level_rows.begin - h, 0),
-                                                    std::min(level_rows.end + h, height)}
-                                          : RowSpan{0, height};
+  const RowSpan set =
+      unknown_off_levels_ ? level_rows_[current_].Widened(h, height) : RowSpan{0, height};
   if (bands_) {
     // The rows the free mask can have bits on, and those it had: the others stay empty.
     RowSpan rows = set.Hull(free_rows_);
