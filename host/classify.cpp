@@ -194,7 +194,7 @@ void HostBackend::Classify() {
   // Where an unknown cell is on no level (t_high < 0, as every valid config has it), the rows
   // outside known_ have no level bit, so free0 and both erosions are empty there, and the free
   // mask is empty outside known_ widened by h. Each pass then writes the rows it can set plus
-  // those it set last time (written_, now cleared), instead of the whole map.
+  // those it set last time (bits_rows_, free_rows_; now cleared), instead of the whole map.
   const bool sparse = t_high < 0;
   const RowSpan all{0, height};
   const RowSpan set = sparse ? known_ : all;
@@ -208,18 +208,19 @@ void HostBackend::Classify() {
                         });
     });
   };
-  rows(set.Hull(written_.levels),
+  const RowSpan bits = set.Hull(bits_rows_);
+  rows(bits,
        [=](int r) { LevelRow(map + r * w, strong + r * nw, weak + r * nw, width, t_low, t_high); });
-  rows(set.Hull(written_.a), [=](int r) {
+  rows(bits, [=](int r) {
     HysteresisErodeRow(r > 0 ? strong + (r - 1) * nw : nullptr, strong + r * nw,
                        r + 1 < height ? strong + (r + 1) * nw : nullptr, weak + r * nw, a + r * nw,
                        words, h);
   });
-  rows(set.Hull(written_.b),
-       [=](int r) { ErodeColumnsDilateRow(a, words, r, height, h, valid_last, b + r * nw); });
-  rows(set_free.Hull(written_.free),
+  rows(bits, [=](int r) { ErodeColumnsDilateRow(a, words, r, height, h, valid_last, b + r * nw); });
+  rows(set_free.Hull(free_rows_),
        [=](int r) { DilateColumnsRow(b, words, r, height, h, f + r * nw); });
-  written_ = {set, set, set, set_free};
+  bits_rows_ = set;
+  free_rows_ = set_free;
 }
 
 }  // namespace freespace

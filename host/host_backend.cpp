@@ -37,7 +37,7 @@ void HostBackend::Clear() {
   std::fill(map_.begin(), map_.end(), LogOdds{0});
   known_ = {};
   std::fill(free_.begin(), free_.end(), std::uint64_t{0});
-  written_.free = {};
+  free_rows_ = {};
 }
 
 void HostBackend::ReadLogOdds(LogOdds* dst) { std::memcpy(dst, map_.data(), cells() * 2); }
@@ -76,7 +76,7 @@ void HostBackend::ReadRayDelta(std::int32_t* dst) {
 void HostBackend::WriteFree(const std::uint8_t* src) {
   const int width = params_.width, nw = words();
   std::fill(free_.begin(), free_.end(), std::uint64_t{0});
-  written_.free = {0, params_.height};
+  free_rows_ = {0, params_.height};
   for (int r = 0; r < params_.height; ++r) {
     for (int c = 0; c < width; ++c) {
       if (src[std::size_t(r) * width + c]) free_[std::size_t(r) * nw + c / 64] |= 1ull << (c % 64);

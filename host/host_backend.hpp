@@ -56,10 +56,10 @@ class HostBackend final : public Backend {
   // Every row of map_ (of map_scratch_) with a non-zero cell lies in known_ (scratch_known_).
   RowSpan known_;
   RowSpan scratch_known_;
-  // Every row with a set bit of stage 3's bitsets (levels: strong and weak; a; b; free_).
-  struct {
-    RowSpan levels, a, b, free;
-  } written_;
+  // Every row with a set bit in stage 3's intermediate bitsets (strong, weak, a, b), and in
+  // free_.
+  RowSpan bits_rows_;
+  RowSpan free_rows_;
   std::vector<std::uint8_t> update_;  // stage 1 -> stage 2
   // Stage 3 bitsets, 64 cells a word, rows of (width + 63) / 64 words.
   std::vector<std::uint64_t> bits_strong_, bits_weak_, bits_a_, bits_b_;

@@ -176,8 +176,8 @@ __kernel void classify_dilate_cols(__global const ulong* c, __global ulong* free
 // and c of row t - OPENING_RADIUS (whose window of b ends at row t) and the free mask of row
 // t - 2 OPENING_RADIUS (whose window of c ends there), each where the band needs it.
 __kernel void classify_bands(__global const uint* strong, __global const uint* weak,
-                             __global ulong* scratch, __global ulong* free, int band,
-                             int row_first, int row_end) {
+                             __global ulong* scratch, __global ulong* free, int band, int row_first,
+                             int row_end) {
   const int g = get_global_id(0);
   const int r0 = row_first + g * band, r1 = min(r0 + band, row_end);
   if (r0 >= r1) return;
