@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <climits>
 #include <cstring>
 #include <string>
 
@@ -23,7 +22,7 @@ HostBackend::HostBackend(const KernelParams& params, int threads)
       bits_a_(bits_strong_.size(), 0),
       bits_b_(bits_strong_.size(), 0),
       free_(std::size_t(params.height) * ((params.width + 63) / 64), 0),
-      label_(cells(), INT32_MAX),
+      edge_seen_((cells() + 63) / 64, 0),
       stop_(BorderLabelCount(params.height, params.width), 0),
       delta_(cells(), 0) {
   if (params.width < 1 || params.height < 1 || params.width > 8192 || params.height > 8192) {

@@ -63,10 +63,10 @@ class HostBackend final : public Backend {
   std::vector<std::uint8_t> update_;  // stage 1 -> stage 2
   // Stage 3 bitsets, 64 cells a word, rows of (width + 63) / 64 words.
   std::vector<std::uint64_t> bits_strong_, bits_weak_, bits_a_, bits_b_;
-  std::vector<std::uint64_t> free_;  // stage 3 output, stage 4 input: bitset rows
-  std::vector<std::int32_t> label_;  // stage 4: smallest label stopping at a cell (T)
-  std::vector<std::int32_t> stop_;   // stage 4: stop cell per label
-  std::vector<std::int32_t> delta_;  // conventional model: per-cell sum of one scan's rays
+  std::vector<std::uint64_t> free_;       // stage 3 output, stage 4 input: bitset rows
+  std::vector<std::uint64_t> edge_seen_;  // stage 4: stop cells already in C_Edge (bitset)
+  std::vector<std::int32_t> stop_;        // stage 4: stop cell per label
+  std::vector<std::int32_t> delta_;       // conventional model: per-cell sum of one scan's rays
 };
 
 // Row kernels shared by the host backend and the tests. Each computes one row exactly as the

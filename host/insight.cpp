@@ -2,9 +2,9 @@
 // "In-sight Sorted Edges Detection"). Mirrors kernels/insight.cl.
 //
 // One Bresenham ray per border cell (2H + 2W rays, labels in BorderCell order) from the
-// vehicle cell; each stops at its first not-free cell. Where several rays stop at one cell the
-// smallest label wins (T keeps the minimum), so C_Edge, the stop cells sorted by their label,
-// is the same whatever order the rays run in.
+// vehicle cell; each stops at its first not-free cell. Each ray writes its own label's stop
+// cell, so the rays can run in any order; C_Edge, the distinct stop cells in the order of their
+// smallest label, is then collected in label order (CollectEdges, src/backend.hpp).
 //
 // The rays visit exactly the cells of host::CastRay, with one loop per major axis: on a shallow
 // ray every step moves one column, on a steep one one row, so each step does one decision and
@@ -13,7 +13,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <climits>
 
 #include "host_backend.hpp"
 
@@ -129,16 +128,7 @@ void HostBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
           }
         });
   });
-  // T: the smallest label per stop cell. Labels run upwards, so the first one to arrive wins.
-  std::int32_t* t = label_.data();
-  for (int l = 0; l < labels; ++l) {
-    if (t[stop[l]] == INT32_MAX) t[stop[l]] = l;
-  }
-  edges->clear();
-  for (int l = 0; l < labels; ++l) {
-    if (t[stop[l]] == l) edges->push_back({stop[l] / width, stop[l] % width});
-  }
-  for (int l = 0; l < labels; ++l) t[stop[l]] = INT32_MAX;
+  CollectEdges(stop, labels, width, edge_seen_.data(), edges);
 }
 
 }  // namespace freespace

@@ -45,6 +45,25 @@ KernelParams MakeKernelParams(const Config& config) {
   return p;
 }
 
+void CollectEdges(const std::int32_t* stop, int labels, int width, std::uint64_t* seen,
+                  std::vector<CellIndex>* edges) {
+  edges->clear();
+  std::int32_t last = -1;
+  for (int l = 0; l < labels; ++l) {
+    const std::int32_t s = stop[l];
+    // Neighbouring rays often stop at the same cell: only a new cell needs the bitset.
+    if (s == last) continue;
+    last = s;
+    std::uint64_t& word = seen[s >> 6];
+    const std::uint64_t bit = std::uint64_t{1} << (s & 63);
+    if (word & bit) continue;
+    word |= bit;
+    edges->push_back({s / width, s % width});
+  }
+  // Every bit set above belongs to an edge cell, so clearing their words clears them all.
+  for (const CellIndex& e : *edges) seen[(e.row * width + e.col) >> 6] = 0;
+}
+
 bool OpenClCompiledIn() {
 #ifdef FREESPACE_WITH_OPENCL
   return true;

@@ -85,6 +85,15 @@ inline CellIndex BorderCell(int label0, int height, int width) {
 }
 inline int BorderLabelCount(int height, int width) { return 2 * height + 2 * width; }
 
+// C_Edge from the stop cells of the border rays (stop[l] = row * width + col of label l's stop
+// cell): each distinct stop cell once, in the order of the smallest label that stopped there.
+// Labels run upwards, so a cell's smallest label is the first to reach it. `seen` is a bitset
+// over the map's cells (cell i is bit i % 64 of word i / 64), all 0 on entry and again on
+// return; it is touched only at the stop cells. Both backends build C_Edge with it from the
+// stop cells their stage 4 wrote.
+void CollectEdges(const std::int32_t* stop, int labels, int width, std::uint64_t* seen,
+                  std::vector<CellIndex>* edges);
+
 // Rows [begin, end) of a map; empty when begin >= end. The backends keep one for each map
 // buffer, holding every row with a known (non-zero) cell, so that the map shift copies and
 // clears only those instead of the whole map: around a vehicle most of a large map is unknown.

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <climits>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -197,7 +196,7 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   delta_ = buffer(padded * 4);
   GrowJob(kInitialJobInts);
   stop_host_.assign(labels, 0);
-  label_host_.assign(cells(), INT32_MAX);
+  edge_seen_.assign((cells() + 63) / 64, 0);
   free_host_.assign(mask_bytes / 8, 0);
   row_counts_.assign(std::size_t(height) + 1, 0);
 
@@ -604,19 +603,7 @@ void OpenClBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
         "clEnqueueReadBuffer");
   WaitForResult(end.get());
   SetStage(kInSightStage, std::move(begin), std::move(end));
-  // C_Edge as host/insight.cpp builds it: T keeps the smallest label per stop cell (labels
-  // run upwards, so the first to arrive), then the cells whose smallest label is this one.
-  const int width = params_.width, labels = int(stop_host_.size());
-  const std::int32_t* stop = stop_host_.data();
-  std::int32_t* t = label_host_.data();
-  for (int l = 0; l < labels; ++l) {
-    if (t[stop[l]] == INT32_MAX) t[stop[l]] = l;
-  }
-  edges->clear();
-  for (int l = 0; l < labels; ++l) {
-    if (t[stop[l]] == l) edges->push_back({stop[l] / width, stop[l] % width});
-  }
-  for (int l = 0; l < labels; ++l) t[stop[l]] = INT32_MAX;
+  CollectEdges(stop_host_.data(), int(stop_host_.size()), params_.width, edge_seen_.data(), edges);
 }
 
 void OpenClBackend::WaitForResult(cl_event event) {

@@ -190,7 +190,7 @@ class OpenClBackend final : public Backend {
 
   std::vector<std::int32_t> job_host_;    // staging of the job upload
   std::vector<std::int32_t> stop_host_;   // stage 4: stop cells as read back
-  std::vector<std::int32_t> label_host_;  // stage 4: T, smallest label per cell (INT32_MAX)
+  std::vector<std::uint64_t> edge_seen_;  // stage 4: stop cells already in C_Edge (bitset)
   std::vector<std::uint64_t> free_host_;  // the free mask for ReadFree() / WriteFree()
   std::vector<std::int32_t> row_counts_;  // counting sort of the occupied cells by row
   opencl::Event upload_done_;             // the last upload from job_host_
