@@ -3,11 +3,18 @@
 // one in POCL_CACHE_DIR, by default under ~/.cache/pocl), so a second process skips the compiler.
 #include "opencl_runtime.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <sstream>
+#include <system_error>
 #include <vector>
 
 #include "freespace/errors.hpp"
@@ -44,7 +51,63 @@ std::string Filter(const std::string& configured, const char* env, std::string* 
   return configured;
 }
 
+// An exclusive flock on a file for the object's life; without effect when the file cannot be
+// opened. Closing the descriptor releases the lock, also when the process dies.
+class FileLock {
+ public:
+  explicit FileLock(const std::string& path) {
+    if (path.empty()) return;
+    fd_ = ::open(path.c_str(), O_RDONLY | O_CREAT | O_CLOEXEC, 0666);
+    if (fd_ < 0) return;
+    while (::flock(fd_, LOCK_EX) != 0) {
+      if (errno != EINTR) {
+        ::close(fd_);
+        fd_ = -1;
+        return;
+      }
+    }
+  }
+  ~FileLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  FileLock(const FileLock&) = delete;
+  FileLock& operator=(const FileLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 }  // namespace
+
+std::string BuildLockPath(cl_device_id device) {
+  cl_platform_id platform = nullptr;
+  if (clGetDeviceInfo(device, CL_DEVICE_PLATFORM, sizeof platform, &platform, nullptr) !=
+          CL_SUCCESS ||
+      PlatformString(platform, CL_PLATFORM_NAME).find("Portable Computing Language") ==
+          std::string::npos) {
+    return "";
+  }
+  // PoCL keeps its kernel cache in POCL_CACHE_DIR, else under $XDG_CACHE_HOME/pocl or
+  // $HOME/.cache/pocl: every process sharing that cache finds the same lock file.
+  std::filesystem::path dir;
+  const auto set = [](const char* name) {
+    const char* value = std::getenv(name);
+    return value != nullptr && *value != '\0' ? value : nullptr;
+  };
+  if (const char* cache = set("POCL_CACHE_DIR")) {
+    dir = cache;
+  } else if (const char* xdg = set("XDG_CACHE_HOME")) {
+    dir = std::filesystem::path(xdg) / "pocl";
+  } else if (const char* home = set("HOME")) {
+    dir = std::filesystem::path(home) / ".cache" / "pocl";
+  } else {
+    return "";
+  }
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) return "";
+  return (dir / "freespace-build.lock").string();
+}
 
 const char* ErrorName(cl_int code) {
   switch (code) {
@@ -304,7 +367,10 @@ Program BuildProgram(cl_context context, cl_device_id device, const KernelFile* 
   Program program(
       clCreateProgramWithSource(context, cl_uint(texts.size()), texts.data(), nullptr, &status));
   Check(status, "clCreateProgramWithSource");
-  status = clBuildProgram(program.get(), 1, &device, options.c_str(), nullptr, nullptr);
+  {
+    const FileLock lock(BuildLockPath(device));
+    status = clBuildProgram(program.get(), 1, &device, options.c_str(), nullptr, nullptr);
+  }
   if (status == CL_SUCCESS) return program;
 
   std::size_t size = 0;

@@ -94,9 +94,18 @@ DeviceChoice ChooseDevice(const BackendConfig& config);
 
 // Builds the OpenCL C `files` (one program, in order) for `device` with `options`. Each file
 // starts with a #line directive, so the compiler's messages name the file. Throws BackendError
-// carrying the build log when the compiler rejects the program.
+// carrying the build log when the compiler rejects the program. On PoCL the build holds an
+// exclusive lock on BuildLockPath(device) (flock), so that processes sharing PoCL's disk cache
+// build one at a time: PoCL 3.1 aborts the process (an assertion) when it reads a program.bc
+// that another process is still writing into the cache.
 Program BuildProgram(cl_context context, cl_device_id device, const KernelFile* files, int count,
                      const std::string& options);
+
+// The lock file BuildProgram holds for `device`: freespace-build.lock in POCL_CACHE_DIR, else in
+// $XDG_CACHE_HOME/pocl, else in $HOME/.cache/pocl (where PoCL keeps its kernel cache; created
+// when missing), for a device of PoCL's platform; "" (no lock) for any other driver or where no
+// such directory can be made.
+std::string BuildLockPath(cl_device_id device);
 
 // A build log with the joined source's line numbers turned into file names and lines. A compiler
 // that ignores #line (NVIDIA's does) numbers the joined program from 1 under a name of its own in

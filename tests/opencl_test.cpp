@@ -2,10 +2,17 @@
 // (the devices it saw, the compiler's build log), the program cache and the event timings; and
 // every stage in both work shapes (per row, per vector) against the host.
 // Compiled only when the OpenCL backend is; each test skips when no OpenCL device exists here.
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <random>
 #include <string>
+#include <thread>
 #include <tuple>
 #include <vector>
 
@@ -248,6 +255,35 @@ TEST(OpenClRuntime, BrokenKernelThrowsWithTheCompilersLog) {
   EXPECT_NO_THROW(opencl::BuildProgram(context->context(), context->device(), opencl::kKernelFiles,
                                        opencl::kKernelFileCount,
                                        OpenClBackend::BuildOptions(params, 1, 1, true)));
+}
+
+TEST(OpenClRuntime, ProgramBuildsWaitForPoclsCacheLock) {
+  FREESPACE_DEVICE_OR_SKIP(found);
+  const auto context = opencl::DeviceContext::Get(found);
+  const std::string path = opencl::BuildLockPath(context->device());
+  if (path.empty()) GTEST_SKIP() << "not a PoCL device: builds take no lock";
+  const opencl::KernelFile file[] = {
+      {"lock.cl", "__kernel void lock_test(__global int* x) { x[0] = 3; }\n"}};
+  const auto build = [&] {
+    opencl::BuildProgram(context->context(), context->device(), file, 1, "-cl-std=CL1.2");
+  };
+  build();  // now in PoCL's cache: building it again takes milliseconds
+  // Another holder of the lock (a separate open file, as another process would have).
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  ASSERT_GE(fd, 0) << path;
+  ASSERT_EQ(::flock(fd, LOCK_EX), 0);
+  std::atomic<bool> released{false};
+  bool built_after_release = false;
+  std::thread builder([&] {
+    build();
+    built_after_release = released.load();
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  released = true;
+  ::flock(fd, LOCK_UN);
+  ::close(fd);
+  builder.join();
+  EXPECT_TRUE(built_after_release) << "the build did not wait for " << path;
 }
 
 TEST(OpenClRuntime, ProgramsAreBuiltOncePerOptions) {
