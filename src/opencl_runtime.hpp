@@ -96,8 +96,8 @@ DeviceChoice ChooseDevice(const BackendConfig& config);
 // starts with a #line directive, so the compiler's messages name the file. Throws BackendError
 // carrying the build log when the compiler rejects the program. On PoCL the build holds an
 // exclusive lock on BuildLockPath(device) (flock), so that processes sharing PoCL's disk cache
-// build one at a time: PoCL 3.1 aborts the process (an assertion) when it reads a program.bc
-// that another process is still writing into the cache.
+// build one at a time: PoCL 3.1 can abort a process (an assertion where it reads the cached
+// program.bc) when two processes build the same program into the cache at once.
 Program BuildProgram(cl_context context, cl_device_id device, const KernelFile* files, int count,
                      const std::string& options);
 
