@@ -261,7 +261,10 @@ TEST(OpenClRuntime, ProgramBuildsWaitForPoclsCacheLock) {
   FREESPACE_DEVICE_OR_SKIP(found);
   const auto context = opencl::DeviceContext::Get(found);
   const std::string path = opencl::BuildLockPath(context->device());
-  if (path.empty()) GTEST_SKIP() << "not a PoCL device: builds take no lock";
+  if (path.empty()) {
+    GTEST_SKIP()
+        << "builds take no lock here: not a PoCL device, or no cache directory to hold one";
+  }
   const opencl::KernelFile file[] = {
       {"lock.cl", "__kernel void lock_test(__global int* x) { x[0] = 3; }\n"}};
   const auto build = [&] {
