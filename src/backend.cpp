@@ -57,8 +57,8 @@ void CollectEdges(const std::int32_t* stop, int labels, int width, std::uint64_t
     std::uint64_t& word = seen[s >> 6];
     const std::uint64_t bit = std::uint64_t{1} << (s & 63);
     if (word & bit) continue;
-    word |= bit;
     edges->push_back({s / width, s % width});
+    word |= bit;
   }
   // Every bit set above belongs to an edge cell, so clearing their words clears them all.
   for (const CellIndex& e : *edges) seen[(e.row * width + e.col) >> 6] = 0;

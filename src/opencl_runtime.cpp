@@ -57,7 +57,8 @@ class FileLock {
  public:
   explicit FileLock(const std::string& path) {
     if (path.empty()) return;
-    fd_ = ::open(path.c_str(), O_RDONLY | O_CREAT | O_CLOEXEC, 0666);
+    // Writable: where flock is emulated with fcntl locks (NFS), LOCK_EX needs it.
+    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
     if (fd_ < 0) return;
     while (::flock(fd_, LOCK_EX) != 0) {
       if (errno != EINTR) {
@@ -87,8 +88,9 @@ std::string BuildLockPath(cl_device_id device) {
           std::string::npos) {
     return "";
   }
-  // PoCL keeps its kernel cache in POCL_CACHE_DIR, else under $XDG_CACHE_HOME/pocl or
-  // $HOME/.cache/pocl: every process sharing that cache finds the same lock file.
+  // PoCL keeps its kernel cache in POCL_CACHE_DIR, else under $XDG_CACHE_HOME/pocl,
+  // $HOME/.cache/pocl or, without HOME, /tmp/pocl: every process sharing that cache finds the
+  // same lock file.
   std::filesystem::path dir;
   const auto set = [](const char* name) {
     const char* value = std::getenv(name);
@@ -101,7 +103,7 @@ std::string BuildLockPath(cl_device_id device) {
   } else if (const char* home = set("HOME")) {
     dir = std::filesystem::path(home) / ".cache" / "pocl";
   } else {
-    return "";
+    dir = "/tmp/pocl";
   }
   std::error_code error;
   std::filesystem::create_directories(dir, error);

@@ -102,9 +102,9 @@ Program BuildProgram(cl_context context, cl_device_id device, const KernelFile* 
                      const std::string& options);
 
 // The lock file BuildProgram holds for `device`: freespace-build.lock in POCL_CACHE_DIR, else in
-// $XDG_CACHE_HOME/pocl, else in $HOME/.cache/pocl (where PoCL keeps its kernel cache; created
-// when missing), for a device of PoCL's platform; "" (no lock) for any other driver or where no
-// such directory can be made.
+// $XDG_CACHE_HOME/pocl, else in $HOME/.cache/pocl, else in /tmp/pocl (where PoCL keeps its
+// kernel cache; created when missing), for a device of PoCL's platform; "" (no lock) for any
+// other driver or where the directory cannot be made.
 std::string BuildLockPath(cl_device_id device);
 
 // A build log with the joined source's line numbers turned into file names and lines. A compiler
