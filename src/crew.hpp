@@ -1,0 +1,79 @@
+// Threads of a backend's own for work that must stay on one thread per device: the OpenCL
+// backend split over several CPU devices (BackendConfig::opencl_devices) runs part of every
+// split kernel on each device, and PoCL's basic device runs a command on the thread that
+// enqueues it, so each device needs a thread of its own to use a core of its own.
+//
+// Run(parts, task) hands the parts 0 .. parts - 1 out to the calling thread (thread 0) and the
+// helpers (threads 1 .. helpers()), each part to whichever thread asks first, and returns once
+// every part is done. A helper that is asleep when a round starts joins late or not at all; the
+// calling thread then runs the parts itself, so a round never waits for a wake-up.
+//
+// Between rounds a helper polls for the next one while the crew is awake (from Wake() until
+// `linger` after Rest()), yielding its core to any other thread that is ready, and otherwise
+// sleeps.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace freespace {
+
+class Crew {
+ public:
+  explicit Crew(int helpers, std::chrono::microseconds linger = std::chrono::microseconds(0));
+  ~Crew();
+  Crew(const Crew&) = delete;
+  Crew& operator=(const Crew&) = delete;
+
+  int helpers() const { return int(threads_.size()); }
+
+  // Runs task(p, thread) once for every p in [0, parts), on the calling thread (thread 0) and on
+  // the helpers (1 .. helpers()) that ask for work before the parts run out; returns when all
+  // are done. Rethrows the first exception a part threw (the other parts still run). Not
+  // reentrant; one caller. Allocates nothing. At most 65535 parts.
+  template <typename Task>
+  void Run(int parts, const Task& task) {
+    RunErased(parts, &Invoke<Task>, &task);
+  }
+
+  // From now until `linger` after Rest(), idle helpers poll for the next round instead of
+  // sleeping (and wake now if they sleep), so that rounds close together find them ready.
+  void Wake();
+  void Rest();
+
+ private:
+  using Erased = void (*)(const void* task, int part, int thread);
+  template <typename Task>
+  static void Invoke(const void* task, int part, int thread) {
+    (*static_cast<const Task*>(task))(part, thread);
+  }
+  void RunErased(int parts, Erased invoke, const void* task);
+  void Loop(int thread);
+  // Claims and runs parts of the current round until none is left.
+  void Work(int thread);
+
+  // The round (high 32 bits), its number of parts (16 bits) and its next unclaimed part (low 16
+  // bits), in one word: a claim is checked against, and lands in, the round it read.
+  std::atomic<std::uint64_t> state_{0};
+  std::atomic<Erased> invoke_{nullptr};
+  std::atomic<const void*> task_{nullptr};
+  std::atomic<int> done_{0};
+  std::atomic<bool> awake_{false};
+  const std::chrono::steady_clock::duration linger_;
+  std::atomic<std::int64_t> rest_until_{0};  // steady_clock ticks: polling until then
+  std::atomic<bool> stop_{false};
+  std::atomic<int> sleepers_{0};
+
+  std::mutex mutex_;  // guards the sleep and error_
+  std::condition_variable wake_;
+  std::exception_ptr error_;
+  std::vector<std::thread> threads_;
+};
+
+}  // namespace freespace
