@@ -74,9 +74,10 @@ BackendConfig BenchBackend(std::int64_t arg) {
       config.opencl_platform = kPoclPlatform;
       config.opencl_device = "pthread-";
     }
-  } else if (arg == 2) {
+  } else if (arg == 2 || arg == 3) {
     config.opencl_platform = kPoclPlatform;
     config.opencl_device = "basic-";
+    config.opencl_devices = arg == 3 ? 2 : 1;
   }
   return config;
 }
@@ -94,9 +95,9 @@ std::unique_ptr<Backend> MakeBackend(const BackendConfig& config, const KernelPa
 }  // namespace freespace::bench
 
 // PoCL lists only its pthread device unless POCL_DEVICES names others; the benchmarks ask for
-// both CPU devices (backend 2 is the basic one) unless the caller chose.
+// both CPU devices, the basic one twice (backends 2 and 3), unless the caller chose.
 int main(int argc, char** argv) {
-  setenv("POCL_DEVICES", "pthread basic", 0);
+  setenv("POCL_DEVICES", "pthread basic basic", 0);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

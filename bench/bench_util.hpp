@@ -43,7 +43,8 @@ std::unique_ptr<StageInput> MakeStageInput(int cells);
 //   1  OpenCL on the device the engine's rule takes, except that where PoCL lists its pthread
 //      device (a worker pool) that one is taken;
 //   2  OpenCL on PoCL's basic device (the kernels run on the thread that enqueues them); a case
-//      says why it cannot run where PoCL does not list it.
+//      says why it cannot run where PoCL does not list it;
+//   3  as 2, split over two basic devices (opencl_devices: 2), where PoCL lists two.
 // FREESPACE_OPENCL_PLATFORM / FREESPACE_OPENCL_DEVICE replace these filters, as in the engine.
 BackendConfig BenchBackend(std::int64_t arg);
 

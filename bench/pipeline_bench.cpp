@@ -96,7 +96,7 @@ constexpr const char* kIntel = "carmen/intel-corrected.log";
 constexpr const char* kKitti = "kitti/kitti_00_000000.bin";
 
 // The default config (OpenCL waits as `auto` does); backend 0 TBB, 1 OpenCL, 2 OpenCL on PoCL's
-// basic device (BenchBackend).
+// basic device, 3 split over two basic devices (BenchBackend).
 void BM_PipelineIntel(benchmark::State& state) {
   RunPipeline(state, kIntel, true, state.range(0), OpenClWait::kAuto);
 }
@@ -121,7 +121,7 @@ void BM_OpenClWaitKitti(benchmark::State& state) {
 }
 
 void Sizes(benchmark::internal::Benchmark* b) {
-  for (const int backend : {0, 1, 2}) {
+  for (const int backend : {0, 1, 2, 3}) {
     for (const int cells : {300, 1500}) b->Args({backend, cells});
   }
   b->ArgNames({"backend", "cells"})->Unit(benchmark::kMicrosecond);
@@ -130,7 +130,7 @@ void Sizes(benchmark::internal::Benchmark* b) {
 // 10 ms apart: a scanner at up to 100 Hz. A fixed number of scans, since the untimed gaps
 // would otherwise stretch a run to minutes.
 void PacedSizes(benchmark::internal::Benchmark* b) {
-  for (const int backend : {0, 1, 2}) {
+  for (const int backend : {0, 1, 2, 3}) {
     for (const int cells : {300, 1500}) b->Args({backend, cells, 10});
   }
   b->ArgNames({"backend", "cells", "gap_ms"})->Unit(benchmark::kMicrosecond)->Iterations(100);

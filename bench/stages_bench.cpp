@@ -145,9 +145,9 @@ void BM_Polygon(benchmark::State& state) {
   state.counters["vertices"] = double(kept.size());
 }
 
-// backend: 0 TBB, 1 OpenCL, 2 OpenCL on PoCL's basic device (BenchBackend).
+// backend: 0 TBB, 1 OpenCL, 2 OpenCL on PoCL's basic device, 3 on two of them (BenchBackend).
 void Sizes(benchmark::internal::Benchmark* b) {
-  for (const int backend : {0, 1, 2}) {
+  for (const int backend : {0, 1, 2, 3}) {
     for (const int cells : {300, 1500}) b->Args({backend, cells});
   }
   b->ArgNames({"backend", "cells"})->Unit(benchmark::kMicrosecond);

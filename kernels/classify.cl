@@ -171,14 +171,15 @@ __kernel void classify_dilate_cols(__global const ulong* c, __global ulong* free
 #define CLASSIFY_BAND_ROWS (2 * CLASSIFY_RING + 1)
 
 // Stage 3 for the rows [row_first + g band, row_first + (g + 1) band) within [row_first,
-// row_end) of work-item g (the host leaves out rows it knows to be empty); `scratch` holds
-// CLASSIFY_BAND_ROWS bitset rows per work-item. Step t computes b of row t, the column erosion
+// row_end) of band g = first_band + work-item (the host leaves out rows it knows to be empty;
+// first_band > 0 when it splits the bands over devices); `scratch` holds CLASSIFY_BAND_ROWS
+// bitset rows per band. Step t computes b of row t, the column erosion
 // and c of row t - OPENING_RADIUS (whose window of b ends at row t) and the free mask of row
 // t - 2 OPENING_RADIUS (whose window of c ends there), each where the band needs it.
 __kernel void classify_bands(__global const uint* strong, __global const uint* weak,
                              __global ulong* scratch, __global ulong* free, int band, int row_first,
-                             int row_end) {
-  const int g = get_global_id(0);
+                             int row_end, int first_band) {
+  const int g = first_band + (int)get_global_id(0);
   const int r0 = row_first + g * band, r1 = min(r0 + band, row_end);
   if (r0 >= r1) return;
   const int h = OPENING_RADIUS;

@@ -6,7 +6,9 @@
 // first not-free cell (the vehicle's own cell never stops it) or at the border cell, and the
 // stop cell (row * WIDTH + col) goes to stop[label]. C_Edge, the distinct stop cells ordered by
 // their smallest label, is a few thousand steps of bookkeeping that the host does on the stop
-// cells it reads back (src/opencl_backend.cpp), as the host backend does.
+// cells it reads back (src/opencl_backend.cpp), as the host backend does. Split over devices,
+// each runs the same global size with its own `part` of `parts` (no global offsets: see
+// docs/opencl.md on PoCL's kernel cache); one device: part 0 of 1.
 //
 // The rays visit exactly the cells of host::CastRay, as host/insight.cpp walks them: one loop
 // per major axis (every step moves one column on a shallow ray, one row on a steep one), and
@@ -115,8 +117,10 @@ int InsightRay(__global const ulong* free, int x0, int y0, int dx, int dy, int s
 }
 
 __kernel void insight_cast(__global const ulong* free, __global int* stop, int vehicle_col,
-                           int vehicle_row) {
-  const int l = get_global_id(0);
+                           int vehicle_row, int part, int parts) {
+  // Work-group g of part `part` of `parts` takes the labels of group g parts + part.
+  const int l =
+      ((int)get_group_id(0) * parts + part) * (int)get_local_size(0) + (int)get_local_id(0);
   if (l >= INSIGHT_LABELS) return;
   const int2 target = InsightBorderCell(l);
   const int dx = target.x - vehicle_col, dy = target.y - vehicle_row;

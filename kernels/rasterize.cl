@@ -315,19 +315,20 @@ __kernel void rasterize_rows(__global const int* job, __global uint* toggles,
 }
 
 #if RASTER_SERIAL
-// The whole of stage 1 (and 2) on a CPU: work-item b owns rows [row_first + b * band,
-// row_first + (b + 1) * band) within [row_first, row_end). It toggles the bits of every edge
-// and echo on its rasterized rows, then runs the row pass on its rows with src / dst as
-// rasterize_rows does; the host sorted the occupied cells by row, so each band reads only its
-// own. Work-item 0 also writes the echoes outside the rasterized rows. Global size: the number
-// of bands, one work-item per group.
+// The whole of stage 1 (and 2) on a CPU: band b = first_band + work-item owns rows
+// [row_first + b * band, row_first + (b + 1) * band) within [row_first, row_end). It toggles the
+// bits of every edge and echo on its rasterized rows, then runs the row pass on its rows with
+// src / dst as rasterize_rows does; the host sorted the occupied cells by row, so each band
+// reads only its own. Band 0 also writes the echoes outside the rasterized rows. Global size:
+// the number of bands, one work-item per group (first_band 0), or one band per command when
+// the host splits the bands over devices.
 __kernel void rasterize_bands(__global const int* job, __global uint* toggles,
                               __global uint* occupied, __global uchar* update,
                               __global const short* src, __global short* dst, int dx, int dy,
                               int row_first, int row_end, int band, __global uint* strong,
                               __global uint* weak, __global const uint* src_strong,
-                              __global const uint* src_weak, int shift_levels) {
-  const int b = get_global_id(0);
+                              __global const uint* src_weak, int shift_levels, int first_band) {
+  const int b = first_band + (int)get_global_id(0);
   const int ba = row_first + b * band, bb = min(ba + band, row_end);
   if (ba >= bb) return;
   const int n = job[0], r0 = job[2], r1 = job[3];

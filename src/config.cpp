@@ -98,6 +98,7 @@ void VisitFields(Config& c, Visitor&& v) {
   v("opencl_device", c.backend.opencl_device);
   v.Enum("opencl_wait", c.backend.opencl_wait, kOpenClWaitNames);
   v("opencl_spin_us", c.backend.opencl_spin_us);
+  v("opencl_devices", c.backend.opencl_devices);
 }
 
 class YamlReader {
@@ -327,6 +328,8 @@ void Config::Validate() const {
         "must be in [0, 1024] (0 = all cores)");
   Check(c.backend.opencl_spin_us >= 0 && c.backend.opencl_spin_us <= 100000,
         "backend.opencl_spin_us", c.backend.opencl_spin_us, "must be in [0, 100000]");
+  Check(c.backend.opencl_devices >= 1 && c.backend.opencl_devices <= 16, "backend.opencl_devices",
+        c.backend.opencl_devices, "must be in [1, 16]");
 }
 
 Config Config::FromYaml(const std::string& yaml_text, const std::string& source) {

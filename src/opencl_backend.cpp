@@ -55,10 +55,46 @@ constexpr std::size_t kBandsPerUnit = 1;   // rasterize_bands
 constexpr std::size_t kClassifyBandsPerUnit = 2;
 constexpr std::size_t kMaxRasterGroup = 256;
 
+// How long the threads that drive the other devices of a split keep polling after a scan's
+// in-sight stage: long enough for the host's stages between two scans back to back (the
+// polygon, then the next scan's preprocessing: 25-130 us on the development machine), so that
+// the next scan's first split stage finds them awake (a wake-up there costs 10-50 us); scans
+// further apart pay the wake-up instead of a core kept busy.
+constexpr std::chrono::microseconds kCrewLinger(300);
+
 // Initial capacity of the job buffer, in ints: a ScaLa scan (581 beams, ~2000 echoes) fits.
 constexpr std::size_t kInitialJobInts = 8 + 2 * 4096 + 8192 + 8193;
 
 }  // namespace
+
+template <typename T>
+void OpenClBackend::SetArgAll(cl_kernel kernel, cl_uint index, const T& value) {
+  SetArg(kernel, index, value);
+  for (int d = 1; d < devices_; ++d) {
+    if (const cl_kernel twin = Twin(kernel, d)) SetArg(twin, index, value);
+  }
+}
+
+cl_kernel OpenClBackend::Twin(cl_kernel kernel, int d) const {
+  if (d == 0) return kernel;
+  for (const auto& [original, twin] : lanes_[std::size_t(d - 1)].twins) {
+    if (original == kernel) return twin.get();
+  }
+  return nullptr;
+}
+
+template <typename Enqueue>
+void OpenClBackend::SplitRun(int parts, const Enqueue& enqueue) {
+  // The parts read what device 0's queue wrote; the CPU devices of one context share the
+  // buffers' memory, and each part's queue is finished before Run returns.
+  Check(clFinish(queue_.get()), "clFinish");
+  split_parts_.clear();
+  split_parts_.resize(std::size_t(parts));  // within the capacity reserved at construction
+  crew_->Run(parts, [&](int part, int d) {
+    enqueue(part, d, split_parts_[std::size_t(part)].out());
+    Check(clFinish(QueueOf(d)), "clFinish");
+  });
+}
 
 OpenClBackend::Layout OpenClBackend::MakeLayout(const KernelParams& p) {
   // Room for the opening window and the +-1 of the hysteresis on every side; 64-aligned rows,
@@ -91,9 +127,11 @@ std::string OpenClBackend::BuildOptions(const KernelParams& p, int vectors_per_i
 OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& config,
                              WorkShape shape)
     : Backend(params),
-      device_(opencl::DeviceContext::Get(opencl::ChooseDevice(config))),
+      device_(opencl::DeviceContext::Get(opencl::ChooseDevices(config))),
       name_("opencl: " + device_->choice().device_name),
-      wait_(config.opencl_wait, config.opencl_spin_us) {
+      wait_(config.opencl_wait, config.opencl_spin_us),
+      devices_(int(device_->devices().size())) {
+  if (devices_ > 1) name_ += " x " + std::to_string(devices_);
   const int width = params.width, height = params.height, h = params.opening_radius;
   if (width < 1 || height < 1 || h < 0) {
     throw BackendError("backend opencl: bad map size " + std::to_string(width) + " x " +
@@ -128,6 +166,11 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   // word each). Either way all work-items of a row are in one work-group (classify.cl relies on
   // it).
   bands_ = cpu;
+  if (devices_ > 1 && !bands_) {
+    throw BackendError("backend opencl: opencl_devices = " + std::to_string(devices_) +
+                       " splits the kernels of the CPU shape only; \"" +
+                       device_->choice().device_name + "\" runs the GPU shape");
+  }
   layout_ = MakeLayout(params);
   const std::size_t row_vectors = RoundUp(std::size_t(width), 16) / 16;
   const std::size_t row_cap = std::min({kGpuRowGroup, max_group, max_items[0]});
@@ -159,6 +202,29 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     row_fuse_[k][0] = MakeKernel(row_pass);
     row_fuse_[k][1] = MakeKernel(row_pass);
   }
+  // Split over devices: a queue and copies of the kernels that split for every device but the
+  // first (kernel objects are not shared between threads).
+  for (int d = 1; d < devices_; ++d) {
+    Lane& lane = lanes_.emplace_back();
+    lane.queue.reset(clCreateCommandQueue(context, device_->devices()[std::size_t(d)],
+                                          CL_QUEUE_PROFILING_ENABLE, &status));
+    Check(status, "clCreateCommandQueue");
+    std::vector<cl_kernel> split = {row_mask_.get(), insight_cast_.get()};
+    for (int k = 0; k < 2; ++k) {
+      split.push_back(classify_bands_[k].get());
+      split.push_back(row_fuse_[k][0].get());
+      split.push_back(row_fuse_[k][1].get());
+    }
+    for (const cl_kernel kernel : split) {
+      char name[128] = "";
+      Check(clGetKernelInfo(kernel, CL_KERNEL_FUNCTION_NAME, sizeof name, name, nullptr),
+            "clGetKernelInfo");
+      lane.twins.emplace_back(kernel, MakeKernel(name));
+    }
+  }
+  if (devices_ > 1) crew_ = std::make_unique<Crew>(devices_ - 1, kCrewLinger);
+  split_parts_.reserve(std::size_t(devices_));
+  for (std::vector<opencl::Event>& more : more_) more.reserve(std::size_t(devices_));
 
   // Buffers.
   auto buffer = [&](std::size_t bytes) {
@@ -189,9 +255,10 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   free_ = buffer(mask_bytes);
   // classify_bands: at most kClassifyBandsPerUnit bands of whole rows per compute unit, each
   // CLASSIFY_BAND_ROWS (classify.cl) bitset rows of scratch, in the CPU shape only.
-  band_rows_ = buffer(bands_ ? kClassifyBandsPerUnit * compute_units_ * std::size_t(4 * h + 3) *
-                                   std::size_t(BitWords()) * 8
-                             : 8);
+  const std::size_t classify_bands =
+      std::max<std::size_t>(kClassifyBandsPerUnit * compute_units_, std::size_t(devices_));
+  band_rows_ =
+      buffer(bands_ ? classify_bands * std::size_t(4 * h + 3) * std::size_t(BitWords()) * 8 : 8);
   stop_ = buffer(labels * 4);
   delta_ = buffer(padded * 4);
   GrowJob(kInitialJobInts);
@@ -231,16 +298,17 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     const cl_mem dst[3] = {no_map, map_[k].get(), map_[1 - k].get()};
     const int to[3] = {k, k, 1 - k};
     for (int i = 0; i < 3; ++i) {
-      SetArg(kernels[i], 1, toggles_.get());
-      SetArg(kernels[i], 2, occupied_.get());
-      SetArg(kernels[i], 3, update_.get());
-      SetArg(kernels[i], 4, src[i]);
-      SetArg(kernels[i], 5, dst[i]);
-      SetArg(kernels[i], levels_arg, strong_[to[i]].get());
-      SetArg(kernels[i], levels_arg + 1, weak_[to[i]].get());
-      SetArg(kernels[i], levels_arg + 2, strong_[k].get());
-      SetArg(kernels[i], levels_arg + 3, weak_[k].get());
-      SetArg(kernels[i], levels_arg + 4, cl_int(0));
+      SetArgAll(kernels[i], 1, toggles_.get());
+      SetArgAll(kernels[i], 2, occupied_.get());
+      SetArgAll(kernels[i], 3, update_.get());
+      SetArgAll(kernels[i], 4, src[i]);
+      SetArgAll(kernels[i], 5, dst[i]);
+      SetArgAll(kernels[i], levels_arg, strong_[to[i]].get());
+      SetArgAll(kernels[i], levels_arg + 1, weak_[to[i]].get());
+      SetArgAll(kernels[i], levels_arg + 2, strong_[k].get());
+      SetArgAll(kernels[i], levels_arg + 3, weak_[k].get());
+      SetArgAll(kernels[i], levels_arg + 4, cl_int(0));
+      if (bands_) SetArgAll(kernels[i], levels_arg + 5, cl_int(0));  // first_band
     }
   }
   unknown_off_levels_ = params.t_high < 0;
@@ -250,8 +318,10 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   SetArg(erode_dilate_.get(), 2, bits_c_.get());
   SetArg(dilate_cols_.get(), 0, bits_c_.get());
   SetArg(dilate_cols_.get(), 1, free_.get());
-  SetArg(insight_cast_.get(), 0, free_.get());
-  SetArg(insight_cast_.get(), 1, stop_.get());
+  SetArgAll(insight_cast_.get(), 0, free_.get());
+  SetArgAll(insight_cast_.get(), 1, stop_.get());
+  SetArgAll(insight_cast_.get(), 4, cl_int(0));  // part 0
+  SetArgAll(insight_cast_.get(), 5, cl_int(1));  // of 1
   for (int k = 0; k < 2; ++k) {
     SetArg(fuse_[k].get(), 0, map_[k].get());
     SetArg(fuse_[k].get(), 1, update_.get());
@@ -264,10 +334,11 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     SetArg(hysteresis_[k].get(), 1, weak_[k].get());
     SetArg(hysteresis_[k].get(), 2, bits_a_.get());
     SetArg(hysteresis_[k].get(), 3, bits_b_.get());
-    SetArg(classify_bands_[k].get(), 0, strong_[k].get());
-    SetArg(classify_bands_[k].get(), 1, weak_[k].get());
-    SetArg(classify_bands_[k].get(), 2, band_rows_.get());
-    SetArg(classify_bands_[k].get(), 3, free_.get());
+    SetArgAll(classify_bands_[k].get(), 0, strong_[k].get());
+    SetArgAll(classify_bands_[k].get(), 1, weak_[k].get());
+    SetArgAll(classify_bands_[k].get(), 2, band_rows_.get());
+    SetArgAll(classify_bands_[k].get(), 3, free_.get());
+    SetArgAll(classify_bands_[k].get(), 7, cl_int(0));  // first_band
     SetArg(shift_[k].get(), 0, map_[k].get());
     SetArg(shift_[k].get(), 1, map_[1 - k].get());
   }
@@ -339,8 +410,13 @@ std::size_t OpenClBackend::LocalSize(cl_kernel kernel, std::size_t preferred) co
 
 void OpenClBackend::Launch(cl_kernel kernel, cl_uint dims, const std::size_t* global,
                            const std::size_t* local, cl_event* event) {
+  Launch(queue_.get(), kernel, dims, global, local, event);
+}
+
+void OpenClBackend::Launch(cl_command_queue queue, cl_kernel kernel, cl_uint dims,
+                           const std::size_t* global, const std::size_t* local, cl_event* event) {
   const cl_int status =
-      clEnqueueNDRangeKernel(queue_.get(), kernel, dims, nullptr, global, local, 0, nullptr, event);
+      clEnqueueNDRangeKernel(queue, kernel, dims, nullptr, global, local, 0, nullptr, event);
   if (status == CL_SUCCESS) return;
   char name[128] = "?";
   clGetKernelInfo(kernel, CL_KERNEL_FUNCTION_NAME, sizeof name, name, nullptr);
@@ -362,10 +438,10 @@ void OpenClBackend::GrowJob(std::size_t ints) {
       clCreateBuffer(device_->context(), CL_MEM_READ_ONLY, job_capacity_ * 4, nullptr, &status));
   Check(status, "clCreateBuffer");
   SetArg(rasterize_edges_.get(), 0, job_.get());
-  SetArg(row_mask_.get(), 0, job_.get());
+  SetArgAll(row_mask_.get(), 0, job_.get());
   SetArg(rays_cast_.get(), 0, job_.get());
   for (const auto& pair : row_fuse_) {
-    for (const opencl::Kernel& k : pair) SetArg(k.get(), 0, job_.get());
+    for (const opencl::Kernel& k : pair) SetArgAll(k.get(), 0, job_.get());
   }
 }
 
@@ -389,9 +465,12 @@ void OpenClBackend::Upload(std::size_t ints, opencl::Event* event) {
 void OpenClBackend::SetStage(Stage stage, opencl::Event begin, opencl::Event end) {
   begin_[stage] = std::move(begin);
   end_[stage] = std::move(end);
+  more_[stage].clear();
+  more_[stage].swap(split_parts_);
 }
 
 void OpenClBackend::Rasterize(const RasterJob& job) {
+  if (crew_) crew_->Wake();  // the split stages of this scan follow
   FlushRows();  // a pending shift may wait: the upload and rasterize_edges leave the map alone
   const int r0 = std::max(job.row_begin, 0);
   const int r1 = std::min(job.row_end, params_.height);
@@ -451,14 +530,31 @@ void OpenClBackend::FlushRows() {
   if (!rows_pending_) return;
   rows_pending_ = false;
   RowPass(row_mask_.get(), 0, 0, pending_begin_, pending_end_, end_[kRasterStage].out());
+  more_[kRasterStage].clear();
+  more_[kRasterStage].swap(split_parts_);
 }
 
 void OpenClBackend::RowPass(cl_kernel kernel, int dx, int dy, int first, int end, cl_event* event) {
-  SetArg(kernel, 6, cl_int(dx));
-  SetArg(kernel, 7, cl_int(dy));
-  SetArg(kernel, 8, cl_int(first));
-  SetArg(kernel, 9, cl_int(end));
+  SetArgAll(kernel, 6, cl_int(dx));
+  SetArgAll(kernel, 7, cl_int(dy));
+  SetArgAll(kernel, 8, cl_int(first));
+  SetArgAll(kernel, 9, cl_int(end));
   const std::size_t rows = std::size_t(end - first);
+  if (bands_ && devices_ > 1) {
+    // One band per part, the parts over the devices; every command has one work-item.
+    const int count = int(std::min<std::size_t>(rows, std::size_t(devices_)));
+    const std::size_t band = (rows + std::size_t(count) - 1) / std::size_t(count);
+    SetArgAll(kernel, 10, cl_int(band));
+    SplitRun(count, [&](int part, int d, cl_event* e) {
+      const cl_kernel twin = Twin(kernel, d);
+      SetArg(twin, 16, cl_int(part));  // first_band
+      const std::size_t one = 1;
+      Launch(QueueOf(d), twin, 1, &one, &one, e);
+    });
+    Check(clRetainEvent(split_parts_[0].get()), "clRetainEvent");
+    *event = split_parts_[0].get();
+    return;
+  }
   if (bands_) {
     // One band per compute unit: every band walks every edge of the polygon (a ScaLa scan has
     // over 2000), which costs more than the imbalance of uneven bands saves.
@@ -474,6 +570,7 @@ void OpenClBackend::RowPass(cl_kernel kernel, int dx, int dy, int first, int end
 }
 
 void OpenClBackend::Fuse(int row_begin, int row_end) {
+  if (crew_) crew_->Wake();
   const int r0 = std::max(row_begin, 0), r1 = std::min(row_end, params_.height);
   if (rows_pending_ && r0 == pending_begin_ && r1 == pending_end_) {
     // The row pass, the pending shift (the rows that can hold a known cell) or none (the
@@ -488,7 +585,7 @@ void OpenClBackend::Fuse(int row_begin, int row_end) {
       const RowSpan rows = unknown_off_levels_ ? next.Hull(known_[to]).Hull(level_rows_[to])
                                                : RowSpan{0, params_.height};
       const cl_kernel kernel = row_fuse_[current_][1].get();
-      SetArg(kernel, bands_ ? 15 : 14, cl_int(levels_valid_ && unknown_off_levels_));
+      SetArgAll(kernel, bands_ ? 15 : 14, cl_int(levels_valid_ && unknown_off_levels_));
       RowPass(kernel, pending_dx_, pending_dy_, rows.begin, rows.end, event.out());
       levels_valid_ = true;  // it wrote every row with a level bit
       known_[to] = next;
@@ -519,6 +616,7 @@ void OpenClBackend::Fuse(int row_begin, int row_end) {
 }
 
 void OpenClBackend::CastRays(const RayJob& job) {
+  if (crew_) crew_->Wake();
   Flush();
   const int n = std::max(job.ray_count, 0);
   if (n == 0) return;
@@ -555,6 +653,7 @@ void OpenClBackend::LevelsWritten() {
 }
 
 void OpenClBackend::Classify() {
+  if (crew_) crew_->Wake();
   Flush();
   opencl::Event begin, end;
   const int height = params_.height;
@@ -573,6 +672,26 @@ void OpenClBackend::Classify() {
     RowSpan rows = set.Hull(free_rows_);
     if (rows.empty()) rows = {0, 1};  // one row, so that the stage has its command
     const std::size_t count = std::size_t(rows.end - rows.begin);
+    if (devices_ > 1) {
+      // One band per part, the parts over the devices; every command has one work-item.
+      const int parts = int(std::min(count, std::size_t(devices_)));
+      const std::size_t band = (count + std::size_t(parts) - 1) / std::size_t(parts);
+      const cl_kernel kernel = classify_bands_[current_].get();
+      SetArgAll(kernel, 4, cl_int(band));
+      SetArgAll(kernel, 5, cl_int(rows.begin));
+      SetArgAll(kernel, 6, cl_int(rows.end));
+      SplitRun(parts, [&](int part, int d, cl_event* e) {
+        const cl_kernel twin = Twin(kernel, d);
+        SetArg(twin, 7, cl_int(part));  // first_band
+        const std::size_t one = 1;
+        Launch(QueueOf(d), twin, 1, &one, &one, e);
+      });
+      if (!levels) begin = Retained(split_parts_[0].get());
+      end = Retained(split_parts_[0].get());
+      free_rows_ = set;
+      SetStage(kClassifyStage, std::move(begin), std::move(end));
+      return;
+    }
     const std::size_t bands = std::min(count, kClassifyBandsPerUnit * compute_units_);
     const std::size_t band = (count + bands - 1) / bands, global = (count + band - 1) / band;
     const std::size_t one = 1;
@@ -592,16 +711,33 @@ void OpenClBackend::Classify() {
 }
 
 void OpenClBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
+  if (crew_) crew_->Wake();
   Flush();
   const cl_kernel cast = insight_cast_.get();
-  SetArg(cast, 2, cl_int(vehicle.col));
-  SetArg(cast, 3, cl_int(vehicle.row));
+  SetArgAll(cast, 2, cl_int(vehicle.col));
+  SetArgAll(cast, 3, cl_int(vehicle.row));
   opencl::Event begin, end;
-  Launch(cast, 1, &cast_global_, &cast_local_, begin.out());
+  if (devices_ > 1) {
+    // Part p of n takes work-groups p, p + n, ... (the rays' lengths differ by side), every
+    // part with the same global size.
+    const std::size_t groups = cast_global_ / cast_local_;
+    const int count = int(std::min(groups, std::size_t(devices_)));
+    const std::size_t global = (groups + std::size_t(count) - 1) / std::size_t(count) * cast_local_;
+    SetArgAll(cast, 5, cl_int(count));
+    SplitRun(count, [&](int part, int d, cl_event* e) {
+      const cl_kernel twin = Twin(cast, d);
+      SetArg(twin, 4, cl_int(part));
+      Launch(QueueOf(d), twin, 1, &global, &cast_local_, e);
+    });
+    begin = Retained(split_parts_[0].get());
+  } else {
+    Launch(cast, 1, &cast_global_, &cast_local_, begin.out());
+  }
   Check(clEnqueueReadBuffer(queue_.get(), stop_.get(), CL_FALSE, 0, stop_host_.size() * 4,
                             stop_host_.data(), 0, nullptr, end.out()),
         "clEnqueueReadBuffer");
   WaitForResult(end.get());
+  if (crew_) crew_->Rest();  // until the next scan
   SetStage(kInSightStage, std::move(begin), std::move(end));
   CollectEdges(stop_host_.data(), int(stop_host_.size()), params_.width, edge_seen_.data(), edges);
 }
@@ -634,6 +770,7 @@ void OpenClBackend::WaitForResult(cl_event event) {
 }
 
 void OpenClBackend::Shift(int dx, int dy) {
+  if (crew_) crew_->Wake();  // the split stages of this scan follow
   Flush();
   if (dx == 0 && dy == 0) return;
   if (std::abs(dx) >= params_.width || std::abs(dy) >= params_.height) {
@@ -781,11 +918,22 @@ bool OpenClBackend::KernelTimes(StageTimes* times) const {
         clGetEventProfilingInfo(last, CL_PROFILING_COMMAND_END, sizeof stop, &stop, nullptr) ==
             CL_SUCCESS &&
         stop >= start) {
+      for (const opencl::Event& part : more_[s]) {
+        cl_ulong a = 0, b = 0;
+        if (clGetEventProfilingInfo(part.get(), CL_PROFILING_COMMAND_START, sizeof a, &a,
+                                    nullptr) == CL_SUCCESS &&
+            clGetEventProfilingInfo(part.get(), CL_PROFILING_COMMAND_END, sizeof b, &b, nullptr) ==
+                CL_SUCCESS) {
+          start = std::min(start, a);
+          stop = std::max(stop, b);
+        }
+      }
       *fields[s] = double(stop - start) * 1e-3;
       any = true;
     }
     begin_[s].reset();
     end_[s].reset();
+    more_[s].clear();
   }
   return any;
 }

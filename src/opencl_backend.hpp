@@ -5,6 +5,9 @@
 // Stages are enqueued without waiting; InSight() waits for its result (blocking or spinning, as
 // BackendConfig::opencl_wait says), Finish() for everything.
 // Bit-identical to the host backend (host/), which is its oracle in the tests.
+// With BackendConfig::opencl_devices = n > 1 (CPU devices only) the row pass, classification and
+// in-sight scan of each scan are split into parts over n devices of one context, device d
+// driven by thread d of a Crew (the caller is thread 0); every other command runs on the first.
 #pragma once
 
 #include <array>
@@ -13,6 +16,7 @@
 #include <vector>
 
 #include "backend.hpp"
+#include "crew.hpp"
 #include "opencl_runtime.hpp"
 #include "wait_policy.hpp"
 
@@ -88,6 +92,8 @@ class OpenClBackend final : public Backend {
   std::size_t LocalSize(cl_kernel kernel, std::size_t preferred) const;
   void Launch(cl_kernel kernel, cl_uint dims, const std::size_t* global, const std::size_t* local,
               cl_event* event);
+  void Launch(cl_command_queue queue, cl_kernel kernel, cl_uint dims, const std::size_t* global,
+              const std::size_t* local, cl_event* event);
   // The staging area for an upload of `ints` ints, once the previous upload is done with it.
   std::int32_t* Staging(std::size_t ints);
   // Writes the first `ints` ints of the staging area into the job buffer, not blocking; the
@@ -102,13 +108,29 @@ class OpenClBackend final : public Backend {
   // Global and local sizes of a kernel over `rows` rows of 16-cell vectors, or of bitset words.
   void RowsLaunch(cl_kernel kernel, int rows, cl_event* event);
   void BitsLaunch(cl_kernel kernel, int rows, cl_event* event);
+  // Also hands the stage the events in split_parts_ (a split's parts; their span counts too),
+  // leaving split_parts_ empty.
   void SetStage(Stage stage, opencl::Event begin, opencl::Event end);
   // Waits for `event`, the last command of a scan, as BackendConfig::opencl_wait says.
   void WaitForResult(cl_event event);
   // Enqueues the deferred shift and row pass on their own.
   void Flush();
-  // Enqueues a row-pass kernel over rows [first, end) with a map shift of (dx, dy).
+  // Enqueues a row-pass kernel over rows [first, end) with a map shift of (dx, dy). Split over
+  // devices, `*event` is the first part's (and split_parts_ holds every part's).
   void RowPass(cl_kernel kernel, int dx, int dy, int first, int end, cl_event* event);
+  // Split over devices: sets an argument of `kernel` and of its copies for the other devices.
+  template <typename T>
+  void SetArgAll(cl_kernel kernel, cl_uint index, const T& value);
+  // The copy of `kernel` (a kernel of device 0 that splits) for device d.
+  cl_kernel Twin(cl_kernel kernel, int d) const;
+  // Runs `parts` parts on the crew once device 0's queue is done: enqueue(part, d, &event)
+  // enqueues one part on device d's queue (the thread's own), which is then finished. The
+  // parts' events, in part order, go to split_parts_ (SetStage() hands them to the stage).
+  template <typename Enqueue>
+  void SplitRun(int parts, const Enqueue& enqueue);
+  cl_command_queue QueueOf(int d) const {
+    return d == 0 ? queue_.get() : lanes_[d - 1].queue.get();
+  }
   void FlushShift();
   void FlushRows();
   // strong_ / weak_ [current_] were just computed from the whole map.
@@ -188,6 +210,17 @@ class OpenClBackend final : public Backend {
   std::size_t edge_local_ = 1;                    // rasterize_edges, rays_cast
   std::size_t cast_local_ = 1, cast_global_ = 1;  // insight_cast
 
+  // Split over devices: devices 1 .. n - 1, each with its queue and its copies of the kernels
+  // that split (Twin()), and the threads that drive them.
+  struct Lane {
+    opencl::Queue queue;
+    std::vector<std::pair<cl_kernel, opencl::Kernel>> twins;  // device 0's kernel -> copy
+  };
+  std::vector<Lane> lanes_;
+  std::unique_ptr<Crew> crew_;
+  int devices_ = 1;
+  std::vector<opencl::Event> split_parts_;  // the last split's events (room for devices_)
+
   std::vector<std::int32_t> job_host_;    // staging of the job upload
   std::vector<std::int32_t> stop_host_;   // stage 4: stop cells as read back
   std::vector<std::uint64_t> edge_seen_;  // stage 4: stop cells already in C_Edge (bitset)
@@ -196,6 +229,7 @@ class OpenClBackend final : public Backend {
   opencl::Event upload_done_;             // the last upload from job_host_
 
   mutable std::array<opencl::Event, kStageCount> begin_, end_;
+  mutable std::array<std::vector<opencl::Event>, kStageCount> more_;
 };
 
 }  // namespace freespace

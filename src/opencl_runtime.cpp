@@ -283,6 +283,52 @@ void ListDevices(const BackendConfig& config, DeviceList* list,
   }
 }
 
+int DeviceCount(const BackendConfig& config) {
+  const char* env = std::getenv(kDevicesEnv);
+  if (env == nullptr || *env == '\0') return config.opencl_devices;
+  char* end = nullptr;
+  const long n = std::strtol(env, &end, 10);
+  if (*end != '\0' || n < 1 || n > 16) {
+    throw BackendError(std::string("backend opencl: ") + kDevicesEnv + "=\"" + env +
+                       "\" is not a number of devices in [1, 16]");
+  }
+  return int(n);
+}
+
+std::vector<DeviceChoice> ChooseDevices(const BackendConfig& config) {
+  const int count = DeviceCount(config);
+  DeviceList list;
+  std::vector<DeviceChoice> handles;
+  ListDevices(config, &list, &handles);
+  if (!list.error.empty()) throw BackendError(list.error);
+  std::vector<DeviceChoice> chosen;
+  std::size_t index = 0;
+  for (const ComputePlatform& platform : list.platforms) {
+    for (const ComputeDevice& device : platform.devices) {
+      const DeviceChoice& handle = handles[index++];
+      if (chosen.empty() ? device.chosen
+                         : int(chosen.size()) < count && device.available && device.compiler &&
+                               handle.platform == chosen[0].platform &&
+                               handle.device_name == chosen[0].device_name) {
+        chosen.push_back(handle);
+      }
+    }
+  }
+  if (chosen.empty()) throw BackendError("backend opencl: no device chosen");
+  if (int(chosen.size()) < count) {
+    std::ostringstream message;
+    message << "backend opencl: opencl_devices = " << count << " needs " << count
+            << " devices named \"" << chosen[0].device_name << "\" on platform \""
+            << chosen[0].platform_name << "\"; it lists " << chosen.size();
+    if (chosen[0].platform_name.find("Portable Computing Language") != std::string::npos) {
+      message << " (PoCL lists a device once per time POCL_DEVICES names it: "
+                 "POCL_DEVICES=\"basic basic\" gives two basic devices)";
+    }
+    throw BackendError(message.str());
+  }
+  return chosen;
+}
+
 DeviceChoice ChooseDevice(const BackendConfig& config) {
   DeviceList list;
   std::vector<DeviceChoice> handles;
@@ -353,8 +399,8 @@ std::string NameJoinedLines(const std::string& log, const KernelFile* files, int
   return out;
 }
 
-Program BuildProgram(cl_context context, cl_device_id device, const KernelFile* files, int count,
-                     const std::string& options) {
+Program BuildProgram(cl_context context, const std::vector<cl_device_id>& devices,
+                     const KernelFile* files, int count, const std::string& options) {
   // A #line directive before each file makes the compiler's messages name it (NameJoinedLines
   // does it for a compiler that ignores the directive).
   std::vector<std::string> lines(count);
@@ -370,10 +416,22 @@ Program BuildProgram(cl_context context, cl_device_id device, const KernelFile* 
       clCreateProgramWithSource(context, cl_uint(texts.size()), texts.data(), nullptr, &status));
   Check(status, "clCreateProgramWithSource");
   {
-    const FileLock lock(BuildLockPath(device));
-    status = clBuildProgram(program.get(), 1, &device, options.c_str(), nullptr, nullptr);
+    const FileLock lock(BuildLockPath(devices.at(0)));
+    status = clBuildProgram(program.get(), cl_uint(devices.size()), devices.data(), options.c_str(),
+                            nullptr, nullptr);
   }
   if (status == CL_SUCCESS) return program;
+  // The log of the first device whose build failed.
+  cl_device_id device = devices[0];
+  for (cl_device_id d : devices) {
+    cl_build_status built = CL_BUILD_NONE;
+    if (clGetProgramBuildInfo(program.get(), d, CL_PROGRAM_BUILD_STATUS, sizeof built, &built,
+                              nullptr) == CL_SUCCESS &&
+        built == CL_BUILD_ERROR) {
+      device = d;
+      break;
+    }
+  }
 
   std::size_t size = 0;
   std::string log;
@@ -392,21 +450,30 @@ Program BuildProgram(cl_context context, cl_device_id device, const KernelFile* 
   throw BackendError(message.str());
 }
 
-DeviceContext::DeviceContext(const DeviceChoice& choice) : choice_(choice) {
+DeviceContext::DeviceContext(const std::vector<DeviceChoice>& choices) : choices_(choices) {
+  if (choices_.empty()) throw BackendError("backend opencl: a context needs a device");
+  for (const DeviceChoice& choice : choices_) devices_.push_back(choice.device);
   const cl_context_properties properties[] = {
-      CL_CONTEXT_PLATFORM, reinterpret_cast<cl_context_properties>(choice.platform), 0};
+      CL_CONTEXT_PLATFORM, reinterpret_cast<cl_context_properties>(choices_[0].platform), 0};
   cl_int status = CL_SUCCESS;
-  context_.reset(clCreateContext(properties, 1, &choice.device, nullptr, nullptr, &status));
+  context_.reset(clCreateContext(properties, cl_uint(devices_.size()), devices_.data(), nullptr,
+                                 nullptr, &status));
   Check(status, "clCreateContext");
 }
 
 std::shared_ptr<DeviceContext> DeviceContext::Get(const DeviceChoice& choice) {
+  return Get(std::vector<DeviceChoice>{choice});
+}
+
+std::shared_ptr<DeviceContext> DeviceContext::Get(const std::vector<DeviceChoice>& choices) {
   // Never destroyed: see the class comment.
   static std::mutex* mutex = new std::mutex;
-  static auto* contexts = new std::map<cl_device_id, std::shared_ptr<DeviceContext>>;
+  static auto* contexts = new std::map<std::vector<cl_device_id>, std::shared_ptr<DeviceContext>>;
+  std::vector<cl_device_id> key;
+  for (const DeviceChoice& choice : choices) key.push_back(choice.device);
   const std::lock_guard<std::mutex> lock(*mutex);
-  std::shared_ptr<DeviceContext>& context = (*contexts)[choice.device];
-  if (!context) context = std::make_shared<DeviceContext>(choice);
+  std::shared_ptr<DeviceContext>& context = (*contexts)[key];
+  if (!context) context = std::make_shared<DeviceContext>(choices);
   return context;
 }
 
@@ -414,7 +481,7 @@ cl_program DeviceContext::EmbeddedProgram(const std::string& options) {
   const std::lock_guard<std::mutex> lock(mutex_);
   auto found = programs_.find(options);
   if (found != programs_.end()) return found->second.get();
-  Program program = BuildProgram(context(), device(), kKernelFiles, kKernelFileCount, options);
+  Program program = BuildProgram(context(), devices_, kKernelFiles, kKernelFileCount, options);
   const cl_program handle = program.get();
   programs_.emplace(options, std::move(program));
   return handle;

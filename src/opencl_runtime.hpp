@@ -13,6 +13,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "freespace/config.hpp"
 #include "freespace/devices.hpp"
@@ -72,6 +73,8 @@ using Event = Handle<cl_event, clReleaseEvent>;
 // opencl_device when set and not empty.
 inline constexpr const char* kPlatformEnv = "FREESPACE_OPENCL_PLATFORM";
 inline constexpr const char* kDeviceEnv = "FREESPACE_OPENCL_DEVICE";
+// Overrides BackendConfig::opencl_devices when set and not empty (a number in [1, 16]).
+inline constexpr const char* kDevicesEnv = "FREESPACE_OPENCL_DEVICES";
 
 struct DeviceChoice {
   cl_platform_id platform = nullptr;
@@ -92,14 +95,24 @@ void ListDevices(const BackendConfig& config, DeviceList* list,
 // device seen, or "no OpenCL platform (ICD loader found none)".
 DeviceChoice ChooseDevice(const BackendConfig& config);
 
-// Builds the OpenCL C `files` (one program, in order) for `device` with `options`. Each file
+// config.opencl_devices, or FREESPACE_OPENCL_DEVICES when set. Throws BackendError when the
+// variable is not a number in [1, 16].
+int DeviceCount(const BackendConfig& config);
+
+// ChooseDevice's device followed by the next DeviceCount(config) - 1 devices of its platform
+// with the same name, in listing order. Throws BackendError, naming how many there are, when
+// there are fewer.
+std::vector<DeviceChoice> ChooseDevices(const BackendConfig& config);
+
+// Builds the OpenCL C `files` (one program, in order) for `devices` (all of them in `context`)
+// with `options`. Each file
 // starts with a #line directive, so the compiler's messages name the file. Throws BackendError
 // carrying the build log when the compiler rejects the program. On PoCL the build holds an
 // exclusive lock on BuildLockPath(device) (flock), so that processes sharing PoCL's disk cache
 // build one at a time: PoCL 3.1 can abort a process (an assertion where it reads the cached
 // program.bc) when two processes build the same program into the cache at once.
-Program BuildProgram(cl_context context, cl_device_id device, const KernelFile* files, int count,
-                     const std::string& options);
+Program BuildProgram(cl_context context, const std::vector<cl_device_id>& devices,
+                     const KernelFile* files, int count, const std::string& options);
 
 // The lock file BuildProgram holds for `device`: freespace-build.lock in POCL_CACHE_DIR, else in
 // $XDG_CACHE_HOME/pocl, else in $HOME/.cache/pocl, else in /tmp/pocl (where PoCL keeps its
@@ -114,28 +127,34 @@ std::string BuildLockPath(cl_device_id device);
 // "<built-in>" references, and the whole log when it names one of the files already.
 std::string NameJoinedLines(const std::string& log, const KernelFile* files, int count);
 
-// A context on one device, shared by every backend on that device, with a cache of the embedded
-// kernels built for each options string. Created on first use and kept until the process ends
-// (releasing OpenCL objects from static destructors races the ICD loader's own teardown).
+// A context on one device (or on a list of devices of one platform), shared by every backend on
+// that device (list), with a cache of the embedded kernels built for each options string. Created
+// on first use and kept until the process ends (releasing OpenCL objects from static destructors
+// races the ICD loader's own teardown).
 class DeviceContext {
  public:
   // The shared context of `choice.device`. Throws BackendError.
   static std::shared_ptr<DeviceContext> Get(const DeviceChoice& choice);
+  // The shared context of all of `choices` (one platform). Throws BackendError.
+  static std::shared_ptr<DeviceContext> Get(const std::vector<DeviceChoice>& choices);
 
-  explicit DeviceContext(const DeviceChoice& choice);
+  explicit DeviceContext(const std::vector<DeviceChoice>& choices);
   DeviceContext(const DeviceContext&) = delete;
   DeviceContext& operator=(const DeviceContext&) = delete;
 
   cl_context context() const { return context_.get(); }
-  cl_device_id device() const { return choice_.device; }
-  const DeviceChoice& choice() const { return choice_; }
+  // The first device and its choice.
+  cl_device_id device() const { return choices_[0].device; }
+  const DeviceChoice& choice() const { return choices_[0]; }
+  const std::vector<cl_device_id>& devices() const { return devices_; }
 
   // kernels/*.cl built with `options`: built on the first request, then the cached program.
   // Thread-safe. Throws BackendError with the build log.
   cl_program EmbeddedProgram(const std::string& options);
 
  private:
-  DeviceChoice choice_;
+  std::vector<DeviceChoice> choices_;
+  std::vector<cl_device_id> devices_;
   Context context_;
   std::mutex mutex_;
   std::map<std::string, Program> programs_;

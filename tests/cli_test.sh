@@ -111,6 +111,25 @@ EOF
     cmp "$out/tbb/polygons.jsonl" "$out/opencl-basic/polygons.jsonl" \
       || fail "PoCL's basic device and --backend tbb wrote different polygons.jsonl"
     echo "cli: PoCL's basic device and --backend tbb wrote identical polygons.jsonl"
+    # Split over two basic devices (--opencl-devices 2): the same polygons again; with one basic
+    # device listed, a setup error that says how many there are.
+    POCL_DEVICES="basic basic" FREESPACE_OPENCL_DEVICE=basic- "$bin" run --log "$log" \
+      --out "$out/opencl-split" --backend opencl --opencl-devices 2 --snapshot-every 0 --quiet \
+      2>"$out/opencl-split.err" || fail "run --opencl-devices 2 failed: $(cat "$out/opencl-split.err")"
+    grep -q "backend opencl: basic-.* x 2" "$out/opencl-split.err" \
+      || fail "run --opencl-devices 2 does not name two devices: $(cat "$out/opencl-split.err")"
+    cmp "$out/tbb/polygons.jsonl" "$out/opencl-split/polygons.jsonl" \
+      || fail "--opencl-devices 2 and --backend tbb wrote different polygons.jsonl"
+    echo "cli: --opencl-devices 2 and --backend tbb wrote identical polygons.jsonl"
+    POCL_DEVICES="pthread basic" FREESPACE_OPENCL_DEVICE=basic- "$bin" run --log "$log" \
+      --out "$out/opencl-split1" --backend opencl --opencl-devices 2 --quiet \
+      2>"$out/opencl-split1.err"
+    rc=$?
+    [ $rc -eq 2 ] || fail "--opencl-devices 2 with one basic device: exit code $rc, expected 2"
+    grep -q 'opencl_devices = 2 needs 2 devices named "basic-.*; it lists 1 .*POCL_DEVICES="basic basic"' \
+      "$out/opencl-split1.err" \
+      || fail "--opencl-devices 2 with one basic device: $(cat "$out/opencl-split1.err")"
+    echo "cli: --opencl-devices 2 with one basic device: $(head -c 200 "$out/opencl-split1.err")"
   else
     echo "SKIP: PoCL's basic device: no PoCL platform listing its pthread device alone here" \
       "(POCL_DEVICES=${POCL_DEVICES:-unset})"

@@ -39,6 +39,7 @@ TEST(Config, YamlRoundTripKeepsEveryField) {
   c.backend.opencl_device = "pthread";
   c.backend.opencl_wait = OpenClWait::kSpin;
   c.backend.opencl_spin_us = 1234;
+  c.backend.opencl_devices = 3;
   c.polygon.epsilon_m = 0.123456789;
   const Config back = Config::FromYaml(c.ToYaml());
   EXPECT_EQ(back.ToYaml(), c.ToYaml());
@@ -47,6 +48,7 @@ TEST(Config, YamlRoundTripKeepsEveryField) {
   EXPECT_DOUBLE_EQ(back.polygon.epsilon_m, 0.123456789);
   EXPECT_EQ(back.backend.opencl_wait, OpenClWait::kSpin);
   EXPECT_EQ(back.backend.opencl_spin_us, 1234);
+  EXPECT_EQ(back.backend.opencl_devices, 3);
 }
 
 TEST(Config, OpenClWaitNamesAndLimits) {
@@ -58,6 +60,12 @@ TEST(Config, OpenClWaitNamesAndLimits) {
   EXPECT_NE(ErrorOf("backend:\n  opencl_spin_us: -1\n").find("backend.opencl_spin_us = -1"),
             std::string::npos);
   EXPECT_EQ(ErrorOf("backend:\n  opencl_spin_us: 0\n"), "");
+  EXPECT_EQ(Config().backend.opencl_devices, 1);
+  EXPECT_EQ(Config::FromYaml("backend:\n  opencl_devices: 2\n").backend.opencl_devices, 2);
+  EXPECT_NE(ErrorOf("backend:\n  opencl_devices: 0\n").find("backend.opencl_devices = 0"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("backend:\n  opencl_devices: 17\n").find("backend.opencl_devices = 17"),
+            std::string::npos);
 }
 
 TEST(Config, MissingFieldsKeepDefaults) {

@@ -118,6 +118,11 @@ struct BackendConfig {
   std::string opencl_device;    // substring of the device name; empty = first
   OpenClWait opencl_wait = OpenClWait::kAuto;
   int opencl_spin_us = 250;  // auto's longest spin, microseconds; 0 (never spin) .. 100000
+  // CPU devices to split the row pass, classification and in-sight scan over: the chosen one
+  // and the next ones of its platform with the same name (PoCL lists two basic devices with
+  // POCL_DEVICES="basic basic"), each driven by a thread of the backend's own. 1 .. 16;
+  // FREESPACE_OPENCL_DEVICES overrides it.
+  int opencl_devices = 1;
 };
 
 struct Config {

@@ -34,6 +34,7 @@ struct EngineOptions {
   std::string backend;      // empty = as configured
   int threads = -1;         // -1 = as configured
   std::string opencl_wait;  // empty = as configured
+  int opencl_devices = 0;   // 0 = as configured
 };
 void AddEngineOptions(CLI::App* command, EngineOptions* options);
 

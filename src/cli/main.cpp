@@ -24,6 +24,10 @@ void AddEngineOptions(CLI::App* command, EngineOptions* options) {
       ->add_option("--opencl-wait", options->opencl_wait,
                    "How the host waits for the OpenCL device, overrides the config")
       ->check(CLI::IsMember({"auto", "block", "spin"}));
+  command
+      ->add_option("--opencl-devices", options->opencl_devices,
+                   "CPU devices to split the OpenCL kernels over, overrides the config")
+      ->check(CLI::Range(1, 16));
 }
 
 Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_sensor,
@@ -46,6 +50,7 @@ Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_se
   if (options.opencl_wait == "auto") config.backend.opencl_wait = OpenClWait::kAuto;
   if (options.opencl_wait == "block") config.backend.opencl_wait = OpenClWait::kBlock;
   if (options.opencl_wait == "spin") config.backend.opencl_wait = OpenClWait::kSpin;
+  if (options.opencl_devices > 0) config.backend.opencl_devices = options.opencl_devices;
   config.Validate();
   return config;
 }
