@@ -18,20 +18,32 @@ constexpr std::uint64_t kPartMask = 0xffffu;
 int PartsOf(std::uint64_t state) { return int((state >> 16) & kPartMask); }
 int NextOf(std::uint64_t state) { return int(state & kPartMask); }
 
+std::int64_t Ticks(std::chrono::steady_clock::time_point t) { return t.time_since_epoch().count(); }
+
 }  // namespace
 
-Crew::Crew(int helpers, std::chrono::microseconds linger) : linger_(linger) {
+Crew::Crew(int helpers, std::chrono::microseconds linger, std::chrono::microseconds window)
+    : linger_(linger), window_(window) {
   threads_.reserve(std::size_t(helpers > 0 ? helpers : 0));
-  for (int t = 1; t <= helpers; ++t) threads_.emplace_back([this, t] { Loop(t); });
+  try {
+    for (int t = 1; t <= helpers; ++t) threads_.emplace_back([this, t] { Loop(t); });
+  } catch (...) {
+    Stop();  // the threads already started
+    throw;
+  }
 }
 
-Crew::~Crew() {
+Crew::~Crew() { Stop(); }
+
+void Crew::Stop() {
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     stop_.store(true);
   }
   wake_.notify_all();
-  for (std::thread& thread : threads_) thread.join();
+  for (std::thread& thread : threads_) {
+    if (thread.joinable()) thread.join();
+  }
 }
 
 void Crew::RunErased(int parts, Erased invoke, const void* task) {
@@ -50,7 +62,11 @@ void Crew::RunErased(int parts, Erased invoke, const void* task) {
     wake_.notify_all();
   }
   Work(0);
-  while (done_.load(std::memory_order_acquire) < parts) CpuRelax();
+  // The parts still running are on helpers; give their cores back if they were preempted.
+  for (unsigned i = 1; done_.load(std::memory_order_acquire) < parts; ++i) {
+    CpuRelax();
+    if (i % 64 == 0) std::this_thread::yield();
+  }
   if (error_) std::rethrow_exception(error_);
 }
 
@@ -77,7 +93,10 @@ void Crew::Work(int thread) {
 }
 
 void Crew::Wake() {
-  if (awake_.exchange(true)) return;
+  poll_until_.store(Ticks(std::chrono::steady_clock::now() + window_), std::memory_order_relaxed);
+  // Sequentially consistent, as in Run: a helper about to sleep sees the new count, or this
+  // sees it counted as a sleeper.
+  wakes_.fetch_add(1);
   if (sleepers_.load() > 0) {
     { const std::lock_guard<std::mutex> lock(mutex_); }
     wake_.notify_all();
@@ -85,13 +104,12 @@ void Crew::Wake() {
 }
 
 void Crew::Rest() {
-  rest_until_.store((std::chrono::steady_clock::now() + linger_).time_since_epoch().count(),
-                    std::memory_order_relaxed);
-  awake_.store(false, std::memory_order_release);
+  poll_until_.store(Ticks(std::chrono::steady_clock::now() + linger_), std::memory_order_relaxed);
 }
 
 void Crew::Loop(int thread) {
-  std::uint64_t seen = 0;  // the last round this thread looked at
+  std::uint64_t seen = 0;        // the last round this thread looked at
+  std::uint64_t seen_wakes = 0;  // and the Wake() calls it knew of
   while (!stop_.load(std::memory_order_acquire)) {
     const std::uint64_t round = state_.load(std::memory_order_acquire) >> 32;
     if (round != seen) {
@@ -99,9 +117,8 @@ void Crew::Loop(int thread) {
       Work(thread);
       continue;
     }
-    if (awake_.load(std::memory_order_acquire) ||
-        std::chrono::steady_clock::now().time_since_epoch().count() <
-            rest_until_.load(std::memory_order_relaxed)) {
+    seen_wakes = wakes_.load();
+    if (Ticks(std::chrono::steady_clock::now()) < poll_until_.load(std::memory_order_relaxed)) {
       // Polling; give the core away to any thread that is ready to run.
       for (int i = 0; i < 64; ++i) CpuRelax();
       std::this_thread::yield();
@@ -109,8 +126,9 @@ void Crew::Loop(int thread) {
     }
     std::unique_lock<std::mutex> lock(mutex_);
     sleepers_.fetch_add(1);
-    wake_.wait(lock,
-               [&] { return stop_.load() || awake_.load() || (state_.load() >> 32) != seen; });
+    wake_.wait(lock, [&] {
+      return stop_.load() || wakes_.load() != seen_wakes || (state_.load() >> 32) != seen;
+    });
     sleepers_.fetch_sub(1);
   }
 }

@@ -8,9 +8,9 @@
 // every part is done. A helper that is asleep when a round starts joins late or not at all; the
 // calling thread then runs the parts itself, so a round never waits for a wake-up.
 //
-// Between rounds a helper polls for the next one while the crew is awake (from Wake() until
-// `linger` after Rest()), yielding its core to any other thread that is ready, and otherwise
-// sleeps.
+// Between rounds a helper polls for the next one while the crew is awake, yielding its core to
+// any other thread that is ready, and otherwise sleeps. Wake() keeps it awake for `window` (each
+// call anew), Rest() for `linger` more, so helpers never poll for long unless told again.
 #pragma once
 
 #include <atomic>
@@ -26,12 +26,15 @@ namespace freespace {
 
 class Crew {
  public:
-  explicit Crew(int helpers, std::chrono::microseconds linger = std::chrono::microseconds(0));
+  explicit Crew(int helpers, std::chrono::microseconds linger = std::chrono::microseconds(0),
+                std::chrono::microseconds window = std::chrono::microseconds(2000));
   ~Crew();
   Crew(const Crew&) = delete;
   Crew& operator=(const Crew&) = delete;
 
   int helpers() const { return int(threads_.size()); }
+  // Helpers asleep now (for the tests).
+  int sleeping() const { return sleepers_.load(); }
 
   // Runs task(p, thread) once for every p in [0, parts), on the calling thread (thread 0) and on
   // the helpers (1 .. helpers()) that ask for work before the parts run out; returns when all
@@ -42,8 +45,9 @@ class Crew {
     RunErased(parts, &Invoke<Task>, &task);
   }
 
-  // From now until `linger` after Rest(), idle helpers poll for the next round instead of
-  // sleeping (and wake now if they sleep), so that rounds close together find them ready.
+  // For `window` from now (until Rest() or the next Wake()), idle helpers poll for the next
+  // round instead of sleeping (and wake now if they sleep), so that rounds close together find
+  // them ready. Rest(): only for `linger` more.
   void Wake();
   void Rest();
 
@@ -54,6 +58,7 @@ class Crew {
     (*static_cast<const Task*>(task))(part, thread);
   }
   void RunErased(int parts, Erased invoke, const void* task);
+  void Stop();  // stops and joins the helpers
   void Loop(int thread);
   // Claims and runs parts of the current round until none is left.
   void Work(int thread);
@@ -64,9 +69,9 @@ class Crew {
   std::atomic<Erased> invoke_{nullptr};
   std::atomic<const void*> task_{nullptr};
   std::atomic<int> done_{0};
-  std::atomic<bool> awake_{false};
-  const std::chrono::steady_clock::duration linger_;
-  std::atomic<std::int64_t> rest_until_{0};  // steady_clock ticks: polling until then
+  const std::chrono::steady_clock::duration linger_, window_;
+  std::atomic<std::int64_t> poll_until_{0};  // steady_clock ticks: idle helpers poll until then
+  std::atomic<std::uint64_t> wakes_{0};      // Wake() calls, for the sleepers
   std::atomic<bool> stop_{false};
   std::atomic<int> sleepers_{0};
 

@@ -61,6 +61,9 @@ constexpr std::size_t kMaxRasterGroup = 256;
 // the next scan's first split stage finds them awake (a wake-up there costs 10-50 us); scans
 // further apart pay the wake-up instead of a core kept busy.
 constexpr std::chrono::microseconds kCrewLinger(300);
+// And after any stage call: a caller that stops between stages (or throws) leaves them polling
+// for this long at most.
+constexpr std::chrono::microseconds kCrewWindow(2000);
 
 // Initial capacity of the job buffer, in ints: a ScaLa scan (581 beams, ~2000 echoes) fits.
 constexpr std::size_t kInitialJobInts = 8 + 2 * 4096 + 8192 + 8193;
@@ -222,7 +225,7 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
       lane.twins.emplace_back(kernel, MakeKernel(name));
     }
   }
-  if (devices_ > 1) crew_ = std::make_unique<Crew>(devices_ - 1, kCrewLinger);
+  if (devices_ > 1) crew_ = std::make_unique<Crew>(devices_ - 1, kCrewLinger, kCrewWindow);
   split_parts_.reserve(std::size_t(devices_));
   for (std::vector<opencl::Event>& more : more_) more.reserve(std::size_t(devices_));
 

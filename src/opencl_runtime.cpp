@@ -317,7 +317,9 @@ std::vector<DeviceChoice> ChooseDevices(const BackendConfig& config) {
   if (chosen.empty()) throw BackendError("backend opencl: no device chosen");
   if (int(chosen.size()) < count) {
     std::ostringstream message;
-    message << "backend opencl: opencl_devices = " << count << " needs " << count
+    const char* env = std::getenv(kDevicesEnv);
+    message << "backend opencl: opencl_devices = " << count << " ("
+            << (env != nullptr && *env != '\0' ? kDevicesEnv : "config") << ") needs " << count
             << " devices named \"" << chosen[0].device_name << "\" on platform \""
             << chosen[0].platform_name << "\"; it lists " << chosen.size();
     if (chosen[0].platform_name.find("Portable Computing Language") != std::string::npos) {

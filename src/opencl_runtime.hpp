@@ -73,7 +73,8 @@ using Event = Handle<cl_event, clReleaseEvent>;
 // opencl_device when set and not empty.
 inline constexpr const char* kPlatformEnv = "FREESPACE_OPENCL_PLATFORM";
 inline constexpr const char* kDeviceEnv = "FREESPACE_OPENCL_DEVICE";
-// Overrides BackendConfig::opencl_devices when set and not empty (a number in [1, 16]).
+// Overrides BackendConfig::opencl_devices (and so --opencl-devices) when set and not empty (a
+// number in [1, 16]).
 inline constexpr const char* kDevicesEnv = "FREESPACE_OPENCL_DEVICES";
 
 struct DeviceChoice {

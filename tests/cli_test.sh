@@ -126,7 +126,7 @@ EOF
       2>"$out/opencl-split1.err"
     rc=$?
     [ $rc -eq 2 ] || fail "--opencl-devices 2 with one basic device: exit code $rc, expected 2"
-    grep -q 'opencl_devices = 2 needs 2 devices named "basic-.*; it lists 1 .*POCL_DEVICES="basic basic"' \
+    grep -q 'opencl_devices = 2 (config) needs 2 devices named "basic-.*; it lists 1 .*POCL_DEVICES="basic basic"' \
       "$out/opencl-split1.err" \
       || fail "--opencl-devices 2 with one basic device: $(cat "$out/opencl-split1.err")"
     echo "cli: --opencl-devices 2 with one basic device: $(head -c 200 "$out/opencl-split1.err")"

@@ -80,6 +80,22 @@ TEST(Crew, APartsExceptionReachesTheCaller) {
   EXPECT_EQ(runs.load(), 4);
 }
 
+// Woken and never told to rest, helpers stop polling once the window has passed.
+TEST(Crew, HelpersSleepOnceTheWakeWindowHasPassed) {
+  Crew crew(2, std::chrono::microseconds(0), std::chrono::microseconds(1000));
+  crew.Run(2, [](int, int) {});
+  crew.Wake();
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (crew.sleeping() < 2 && std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_EQ(crew.sleeping(), 2) << "helpers still polling 10 s after a 1 ms window";
+  // And a round after that still runs every part.
+  std::atomic<int> runs{0};
+  crew.Run(5, [&](int, int) { runs.fetch_add(1); });
+  EXPECT_EQ(runs.load(), 5);
+}
+
 // Destroying a crew whose helpers poll, sleep or were never used joins them.
 TEST(Crew, DestructionJoinsPollingAndSleepingHelpers) {
   for (int k = 0; k < 50; ++k) {

@@ -26,7 +26,8 @@ void AddEngineOptions(CLI::App* command, EngineOptions* options) {
       ->check(CLI::IsMember({"auto", "block", "spin"}));
   command
       ->add_option("--opencl-devices", options->opencl_devices,
-                   "CPU devices to split the OpenCL kernels over, overrides the config")
+                   "CPU devices to split the OpenCL kernels over, overrides the config "
+                   "(FREESPACE_OPENCL_DEVICES overrides both)")
       ->check(CLI::Range(1, 16));
 }
 
