@@ -5,14 +5,6 @@
 namespace freespace {
 namespace {
 
-inline void CpuRelax() {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#elif defined(__aarch64__)
-  asm volatile("yield");
-#endif
-}
-
 constexpr std::uint64_t kPartMask = 0xffffu;
 
 int PartsOf(std::uint64_t state) { return int((state >> 16) & kPartMask); }

@@ -24,6 +24,15 @@
 
 namespace freespace {
 
+// One step of a spin-wait: tells the core that the thread is only polling.
+inline void CpuRelax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#elif defined(__aarch64__)
+  asm volatile("yield");
+#endif
+}
+
 class Crew {
  public:
   explicit Crew(int helpers, std::chrono::microseconds linger = std::chrono::microseconds(0),

@@ -27,15 +27,6 @@ void SetArg(cl_kernel kernel, cl_uint index, const T& value) {
   Check(clSetKernelArg(kernel, index, sizeof(T), &value), "clSetKernelArg");
 }
 
-// One step of a spin-wait: tells the core that the thread is only polling.
-inline void CpuRelax() {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#elif defined(__aarch64__)
-  asm volatile("yield");
-#endif
-}
-
 // A second reference to `event`, for a stage whose first command is also its last.
 opencl::Event Retained(cl_event event) {
   Check(clRetainEvent(event), "clRetainEvent");

@@ -295,8 +295,11 @@ int DeviceCount(const BackendConfig& config) {
   return int(n);
 }
 
-std::vector<DeviceChoice> ChooseDevices(const BackendConfig& config) {
-  const int count = DeviceCount(config);
+namespace {
+
+// The chosen device and up to count - 1 more of its platform with the same name, in listing
+// order.
+std::vector<DeviceChoice> ChosenDevices(const BackendConfig& config, int count) {
   DeviceList list;
   std::vector<DeviceChoice> handles;
   ListDevices(config, &list, &handles);
@@ -314,7 +317,16 @@ std::vector<DeviceChoice> ChooseDevices(const BackendConfig& config) {
       }
     }
   }
+  // ListDevices sets error instead.
   if (chosen.empty()) throw BackendError("backend opencl: no device chosen");
+  return chosen;
+}
+
+}  // namespace
+
+std::vector<DeviceChoice> ChooseDevices(const BackendConfig& config) {
+  const int count = DeviceCount(config);
+  std::vector<DeviceChoice> chosen = ChosenDevices(config, count);
   if (int(chosen.size()) < count) {
     std::ostringstream message;
     const char* env = std::getenv(kDevicesEnv);
@@ -331,20 +343,7 @@ std::vector<DeviceChoice> ChooseDevices(const BackendConfig& config) {
   return chosen;
 }
 
-DeviceChoice ChooseDevice(const BackendConfig& config) {
-  DeviceList list;
-  std::vector<DeviceChoice> handles;
-  ListDevices(config, &list, &handles);
-  if (!list.error.empty()) throw BackendError(list.error);
-  std::size_t index = 0;
-  for (const ComputePlatform& platform : list.platforms) {
-    for (const ComputeDevice& device : platform.devices) {
-      if (device.chosen) return handles[index];
-      ++index;
-    }
-  }
-  throw BackendError("backend opencl: no device chosen");  // ListDevices sets error instead
-}
+DeviceChoice ChooseDevice(const BackendConfig& config) { return ChosenDevices(config, 1)[0]; }
 
 std::string NameJoinedLines(const std::string& log, const KernelFile* files, int count) {
   // The joined line of each file's #line directive: its text starts on the next line, and the
