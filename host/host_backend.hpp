@@ -114,6 +114,20 @@ inline std::int32_t CastRay(const std::uint8_t* free, int width, int x0, int y0,
   return CastRay([=](int x, int y) { return free[y * width + x] != 0; }, width, x0, y0, x1, y1);
 }
 
+// Stage 4, a ray's steps in closed form: on a ray of n steps along its major axis and d <= n
+// steps along the other in all, CastRay's step k (0 .. n) lies floor((2 d k + n) / (2 n)) minor
+// steps off the start (by induction over its error term), the integer part of t = k d / n + 1/2.
+// With slope = RaySlope(n, d) = ceil(2^32 d / n), RayMinorStep(slope, k) = (2^31 + k slope) /
+// 2^32 is exact for n <= 46340: it exceeds 2^32 t by k (slope - 2^32 d / n) < k <= n, and
+// 2^32 t lies at least 2^32 / (2 n) below the next integer multiple of 2^32 (t is a multiple
+// of 1 / (2 n)), which n < 2^31 / n keeps out of reach. Maps have at most 8192 cells a side.
+inline std::uint64_t RaySlope(int n, int d) {
+  return ((std::uint64_t(d) << 32) + std::uint64_t(n - 1)) / std::uint64_t(n);
+}
+inline int RayMinorStep(std::uint64_t slope, int k) {
+  return int((std::uint64_t(k) * slope + 0x80000000u) >> 32);
+}
+
 // floor(a / b) for b > 0.
 inline std::int64_t FloorDiv(std::int64_t a, std::int64_t b) {
   const std::int64_t q = a / b;

@@ -6,10 +6,11 @@
 // cell, so the rays can run in any order; C_Edge, the distinct stop cells in the order of their
 // smallest label, is then collected in label order (CollectEdges, src/backend.hpp).
 //
-// The rays visit exactly the cells of host::CastRay, with one loop per major axis: on a shallow
-// ray every step moves one column, on a steep one one row, so each step does one decision and
-// one bit test, and the row's words stay in a pointer. Rays close to a row's direction take
-// their cells a run (one row's part of the ray) at a time.
+// The rays visit exactly the cells of host::CastRay: every step moves one cell along the ray's
+// major axis (a column on a shallow ray, a row on a steep one) and takes its offset on the
+// other axis in closed form (host::RaySlope), so no step waits for the decision of the one
+// before. Rays close to a row's direction take their cells a run (one row's part of the ray)
+// at a time.
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -19,11 +20,6 @@
 namespace freespace {
 namespace {
 
-// Bresenham from (x0, y0) over dx = |x1 - x0|, dy = |y1 - y0| cells in directions (sx, sy):
-// the first cell after the start whose bit in the free bitset (rows of `words` words) is 0, or
-// the end cell. The same cells as host::CastRay: there, a shallow ray (dx >= dy) steps x on
-// every iteration and y where 2 err <= dx; a steep one steps y on every iteration and x where
-// 2 err >= -dy.
 // The first cell u in [from, to] (from <= to: upwards; from > to: downwards) whose bit in
 // `line` is 0, or -1.
 int FirstNotFree(const std::uint64_t* line, int from, int to) {
@@ -74,39 +70,31 @@ std::int32_t RunRay(const std::uint64_t* rows, int words, int width, int x0, int
   }
 }
 
+// A ray of n steps (major_x, major_y) with d <= n steps (minor_x, minor_y) in all, the minor
+// offset of each step from host::RaySlope.
+std::int32_t StepRay(const std::uint64_t* rows, int words, int width, int x0, int y0, int n, int d,
+                     int major_x, int major_y, int minor_x, int minor_y) {
+  if (n == 0) return y0 * width + x0;
+  const std::uint64_t slope = host::RaySlope(n, d);
+  std::uint64_t sum = 0x80000000u;  // host::RayMinorStep(slope, 0), summed up step by step
+  for (int k = 1; k <= n; ++k) {
+    sum += slope;
+    const int m = int(sum >> 32);
+    const int x = x0 + major_x * k + minor_x * m, y = y0 + major_y * k + minor_y * m;
+    if (!((rows[std::size_t(y) * words + (x >> 6)] >> (x & 63)) & 1)) return y * width + x;
+  }
+  return (y0 + major_y * n + minor_y * d) * width + x0 + major_x * n + minor_x * d;
+}
+
+// The stop cell of the ray from (x0, y0) over dx = |x1 - x0|, dy = |y1 - y0| cells in
+// directions (sx, sy): the first cell after the start whose bit in the free bitset (rows of
+// `words` words) is 0, or the end cell. Shallow rays (dx >= dy) step along x, steep ones along y.
 std::int32_t Ray(const std::uint64_t* rows, int words, int width, int x0, int y0, int dx, int dy,
                  int sx, int sy) {
   // Rays within about 14 degrees of a row: runs of 4 cells or more, a run at a time.
   if (dy > 0 && dx >= 4 * dy) return RunRay(rows, words, width, x0, y0, dx, dy, sx, sy);
-  int err = dx - dy, x = x0, y = y0;
-  const std::ptrdiff_t row_step = std::ptrdiff_t(sy) * words;
-  const std::uint64_t* line = rows + std::size_t(y0) * words;
-  if (dx >= dy) {
-    for (int k = 0; k < dx; ++k) {
-      const bool y_step = 2 * err <= dx;
-      err -= dy;
-      x += sx;
-      if (y_step) {
-        err += dx;
-        y += sy;
-        line += row_step;
-      }
-      if (!((line[x >> 6] >> (x & 63)) & 1)) break;
-    }
-  } else {
-    for (int k = 0; k < dy; ++k) {
-      const bool x_step = 2 * err >= -dy;
-      err += dx;
-      y += sy;
-      line += row_step;
-      if (x_step) {
-        err -= dy;
-        x += sx;
-      }
-      if (!((line[x >> 6] >> (x & 63)) & 1)) break;
-    }
-  }
-  return y * width + x;
+  if (dx >= dy) return StepRay(rows, words, width, x0, y0, dx, dy, sx, 0, 0, sy);
+  return StepRay(rows, words, width, x0, y0, dy, dx, 0, sy, sx, 0);
 }
 
 }  // namespace

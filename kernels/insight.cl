@@ -10,10 +10,10 @@
 // each runs the same global size with its own `part` of `parts` (no global offsets: see
 // docs/opencl.md on PoCL's kernel cache); one device: part 0 of 1.
 //
-// The rays visit exactly the cells of host::CastRay, as host/insight.cpp walks them: one loop
-// per major axis (every step moves one column on a shallow ray, one row on a steep one), and
-// rays within about 14 degrees of a row a run (one row's part of the ray) at a time, 64 cells
-// a bitset word.
+// The rays visit exactly the cells of host::CastRay, as host/insight.cpp walks them: every step
+// moves one cell along the ray's major axis, its offset on the other axis in closed form (no
+// decision that depends on the step before), and rays within about 14 degrees of a row a run
+// (one row's part of the ray) at a time, 64 cells a bitset word.
 //
 // Build options: those of common.cl. The free mask is a bitset (common.cl).
 
@@ -79,41 +79,33 @@ int InsightRunRay(__global const ulong* free, int x0, int y0, int dx, int dy, in
   }
 }
 
+// A ray of n steps along its major axis, each one cell (major_x, major_y), with d <= n steps
+// (minor_x, minor_y) on the other axis in all: host::CastRay's cells, whose step k is
+// floor((2 d k + n) / (2 n)) minor steps off the start. That is the integer part of
+// 2^31 + k slope over 2^32 with slope = ceil(2^32 d / n), exact for n <= 46340 (host::RaySlope
+// in host/host_backend.hpp says why; maps have at most 8192 cells a side). No step depends on
+// the one before but through the sum, so the steps overlap on the core instead of waiting for
+// a decision each.
+int InsightStepRay(__global const ulong* free, int x0, int y0, int n, int d, int major_x,
+                   int major_y, int minor_x, int minor_y) {
+  if (n == 0) return y0 * WIDTH + x0;
+  const ulong slope = (((ulong)d << 32) + (ulong)(n - 1)) / (ulong)n;
+  ulong sum = 0x80000000UL;  // 2^31: step 0
+  for (int k = 1; k <= n; ++k) {
+    sum += slope;
+    const int m = (int)(sum >> 32);
+    const int x = x0 + major_x * k + minor_x * m, y = y0 + major_y * k + minor_y * m;
+    if (!((free[y * BIT_WORDS + (x >> 6)] >> (x & 63)) & 1)) return y * WIDTH + x;
+  }
+  return (y0 + major_y * n + minor_y * d) * WIDTH + x0 + major_x * n + minor_x * d;
+}
+
 // The stop cell of the ray from (x0, y0) over dx = |x1 - x0|, dy = |y1 - y0| cells in
-// directions (sx, sy): host::CastRay's cells, where a shallow ray (dx >= dy) steps x on every
-// iteration and y where 2 err <= dx, and a steep one steps y on every iteration and x where
-// 2 err >= -dy.
+// directions (sx, sy): shallow rays (dx >= dy) step along x, steep ones along y.
 int InsightRay(__global const ulong* free, int x0, int y0, int dx, int dy, int sx, int sy) {
   if (dy > 0 && dx >= 4 * dy) return InsightRunRay(free, x0, y0, dx, dy, sx, sy);
-  int err = dx - dy, x = x0, y = y0;
-  __global const ulong* line = free + y0 * BIT_WORDS;
-  const int row_step = sy * BIT_WORDS;
-  if (dx >= dy) {
-    for (int k = 0; k < dx; ++k) {
-      const bool y_step = 2 * err <= dx;
-      err -= dy;
-      x += sx;
-      if (y_step) {
-        err += dx;
-        y += sy;
-        line += row_step;
-      }
-      if (!((line[x >> 6] >> (x & 63)) & 1)) break;
-    }
-  } else {
-    for (int k = 0; k < dy; ++k) {
-      const bool x_step = 2 * err >= -dy;
-      err += dx;
-      y += sy;
-      line += row_step;
-      if (x_step) {
-        err -= dy;
-        x += sx;
-      }
-      if (!((line[x >> 6] >> (x & 63)) & 1)) break;
-    }
-  }
-  return y * WIDTH + x;
+  if (dx >= dy) return InsightStepRay(free, x0, y0, dx, dy, sx, 0, 0, sy);
+  return InsightStepRay(free, x0, y0, dy, dx, 0, sy, sx, 0);
 }
 
 __kernel void insight_cast(__global const ulong* free, __global int* stop, int vehicle_col,

@@ -1,7 +1,10 @@
 // Kernel stage 4: the in-sight edges (paper IV.A). Label geometry, hand-made grids, the
 // smallest-label tie-break, and both backends against a serial transcription of the paper's
 // algorithm.
+#include <algorithm>
+#include <cstdint>
 #include <random>
+#include <vector>
 
 #include "host_backend.hpp"
 #include "test_util.hpp"
@@ -111,16 +114,68 @@ TEST_P(InSightTest, SmallestLabelWinsWhenRaysShareAStopCell) {
 
 TEST_P(InSightTest, RandomMapsMatchThePapersSerialAlgorithm) {
   std::mt19937 rng(23);
-  for (const auto& [width, height] : std::vector<std::pair<int, int>>{
-           {1, 1}, {2, 1}, {1, 5}, {13, 7}, {64, 80}, {300, 300}, {1500, 1500}}) {
+  // The maps of 8192 cells a side (the largest a config allows) and the sparse obstacles of
+  // the last trials give rays thousands of cells long.
+  const std::vector<std::pair<int, int>> sizes = {
+      {1, 1}, {2, 1}, {1, 5}, {13, 7}, {64, 80}, {300, 300}, {1500, 1500}, {8192, 5}, {7, 8192}};
+  for (const auto& [width, height] : sizes) {
     FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), test::SmallParams(width, height));
-    for (int trial = 0; trial < (width >= 300 ? 2 : 8); ++trial) {
+    const int trials = std::max(width, height) >= 300 ? 3 : 8;
+    for (int trial = 0; trial < trials; ++trial) {
       std::vector<std::uint8_t> free(std::size_t(width) * height);
-      const unsigned density = 80 + rng() % 20;
-      for (auto& f : free) f = rng() % 100 < density ? 1 : 0;
+      const unsigned density = trial == trials - 1 ? 99990 : 80000 + rng() % 20000;
+      for (auto& f : free) f = rng() % 100000 < density ? 1 : 0;
       const CellIndex vehicle{int(rng() % height), int(rng() % width)};
       ASSERT_EQ(Edges(*backend, free, vehicle), Reference(free, width, height, vehicle))
           << width << "x" << height << " trial " << trial;
+    }
+  }
+}
+
+// host::RaySlope's closed form against the exact floor((2 d k + n) / (2 n)) for every step of
+// every ray up to 300 cells, and of rays up to 8192 cells (a map's largest side) and 46340 (the
+// bound it claims), and against the cells host::CastRay visits.
+TEST(RaySteps, ClosedFormIsExactUpTo46340Steps) {
+  const auto check = [](int n, int d) {
+    const std::uint64_t slope = host::RaySlope(n, d);
+    for (int k = 0; k <= n; ++k) {
+      const int exact = int((2 * std::int64_t(d) * k + n) / (2 * std::int64_t(n)));
+      if (host::RayMinorStep(slope, k) != exact) {
+        ADD_FAILURE() << "n " << n << " d " << d << " step " << k;
+        return false;
+      }
+    }
+    return true;
+  };
+  for (int n = 1; n <= 300; ++n) {
+    for (int d = 0; d <= n; ++d) ASSERT_TRUE(check(n, d));
+  }
+  std::mt19937 rng(5);
+  for (const int n : {8191, 8192, 46339, 46340}) {
+    for (int trial = 0; trial < 40; ++trial) {
+      const int d = trial < 4 ? std::vector<int>{0, 1, n - 1, n}[trial] : int(rng() % (n + 1));
+      ASSERT_TRUE(check(n, d));
+    }
+  }
+  // CastRay's cells on a shallow and a steep ray, every direction.
+  for (const auto& [dx, dy] : std::vector<std::pair<int, int>>{{8191, 2963}, {1777, 8190}}) {
+    for (const int sx : {-1, 1}) {
+      for (const int sy : {-1, 1}) {
+        const int n = std::max(dx, dy), d = std::min(dx, dy);
+        const std::uint64_t slope = host::RaySlope(n, d);
+        int k = 0;
+        host::CastRay(
+            [&](int x, int y) {
+              ++k;
+              const int m = host::RayMinorStep(slope, k);
+              const int want_x = dx >= dy ? sx * k : sx * m, want_y = dx >= dy ? sy * m : sy * k;
+              EXPECT_EQ(x, want_x) << "step " << k;
+              EXPECT_EQ(y, want_y) << "step " << k;
+              return x == want_x && y == want_y;
+            },
+            1, 0, 0, sx * dx, sy * dy);
+        EXPECT_EQ(k, n);
+      }
     }
   }
 }
