@@ -6,9 +6,13 @@
 // first not-free cell (the vehicle's own cell never stops it) or at the border cell, and the
 // stop cell (row * WIDTH + col) goes to stop[label]. C_Edge, the distinct stop cells ordered by
 // their smallest label, is a few thousand steps of bookkeeping that the host does on the stop
-// cells it reads back (src/opencl_backend.cpp), as the host backend does. Split over devices,
-// each runs the same global size with its own `part` of `parts` (no global offsets: see
-// docs/opencl.md on PoCL's kernel cache); one device: part 0 of 1.
+// cells it reads back (src/opencl_backend.cpp), as the host backend does.
+//
+// insight_claim is the same scan split over several CPU devices (BackendConfig::opencl_devices):
+// one work-item per device claims chunks of consecutive labels from a counter the devices share,
+// until none is left, so that a device that starts late or runs slower takes fewer rays and none
+// waits for the other. Each ray still writes its own label's stop cell, so which device casts it
+// changes nothing in the result.
 //
 // The rays visit exactly the cells of host::CastRay, as host/insight.cpp walks them: every step
 // moves one cell along the ray's major axis, its offset on the other axis in closed form (no
@@ -108,14 +112,27 @@ int InsightRay(__global const ulong* free, int x0, int y0, int dx, int dy, int s
   return InsightStepRay(free, x0, y0, dy, dx, 0, sy, sx, 0);
 }
 
-__kernel void insight_cast(__global const ulong* free, __global int* stop, int vehicle_col,
-                           int vehicle_row, int part, int parts) {
-  // Work-group g of part `part` of `parts` takes the labels of group g parts + part.
-  const int l =
-      ((int)get_group_id(0) * parts + part) * (int)get_local_size(0) + (int)get_local_id(0);
-  if (l >= INSIGHT_LABELS) return;
+// The stop cell of label l's ray from the vehicle cell.
+int InsightLabel(__global const ulong* free, int vehicle_col, int vehicle_row, int l) {
   const int2 target = InsightBorderCell(l);
   const int dx = target.x - vehicle_col, dy = target.y - vehicle_row;
-  stop[l] = InsightRay(free, vehicle_col, vehicle_row, abs(dx), abs(dy), dx < 0 ? -1 : 1,
-                       dy < 0 ? -1 : 1);
+  return InsightRay(free, vehicle_col, vehicle_row, abs(dx), abs(dy), dx < 0 ? -1 : 1,
+                    dy < 0 ? -1 : 1);
+}
+
+__kernel void insight_cast(__global const ulong* free, __global int* stop, int vehicle_col,
+                           int vehicle_row) {
+  const int l = (int)get_global_id(0);
+  if (l < INSIGHT_LABELS) stop[l] = InsightLabel(free, vehicle_col, vehicle_row, l);
+}
+
+// One work-item per device. `next` counts the chunks claimed; it is 0 when the scan's first
+// device starts, and every work-item stops at its first claim past the last chunk.
+__kernel void insight_claim(__global const ulong* free, __global int* stop, int vehicle_col,
+                            int vehicle_row, volatile __global int* next, int chunk) {
+  const int chunks = (INSIGHT_LABELS + chunk - 1) / chunk;
+  for (int c = atomic_inc(next); c < chunks; c = atomic_inc(next)) {
+    const int last = min((c + 1) * chunk, INSIGHT_LABELS);
+    for (int l = c * chunk; l < last; ++l) stop[l] = InsightLabel(free, vehicle_col, vehicle_row, l);
+  }
 }

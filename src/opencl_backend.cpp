@@ -40,7 +40,11 @@ constexpr std::size_t kGpuGroup = 64;
 constexpr std::size_t kGpuRowGroup = 256;  // at most this many work-items for one row
 constexpr std::size_t kEdgeGroup = 16;     // rasterize_edges, rays_cast: uneven loop lengths
 constexpr std::size_t kCastGroup = 16;     // insight_cast
-constexpr std::size_t kBandsPerUnit = 1;   // rasterize_bands
+// insight_claim (the in-sight scan split over devices): about this many chunks of labels per
+// device, so that the devices even out within a chunk's time (at 1500 x 1500 cells, 94 rays:
+// a few microseconds) for a few dozen claims of the shared counter.
+constexpr std::size_t kClaimsPerDevice = 32;
+constexpr std::size_t kBandsPerUnit = 1;  // rasterize_bands
 // classify_bands: more bands than compute units, so that a unit that starts late still finds
 // work; each band recomputes 4 OPENING_RADIUS rows of its neighbours'.
 constexpr std::size_t kClassifyBandsPerUnit = 2;
@@ -183,6 +187,7 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   rasterize_edges_ = MakeKernel("rasterize_edges");
   row_mask_ = MakeKernel(row_pass);
   insight_cast_ = MakeKernel("insight_cast");
+  insight_claim_ = MakeKernel("insight_claim");
   rays_cast_ = MakeKernel("rays_cast");
   erode_dilate_ = MakeKernel("classify_erode_cols_dilate_rows");
   dilate_cols_ = MakeKernel("classify_dilate_cols");
@@ -203,7 +208,7 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
     lane.queue.reset(clCreateCommandQueue(context, device_->devices()[std::size_t(d)],
                                           CL_QUEUE_PROFILING_ENABLE, &status));
     Check(status, "clCreateCommandQueue");
-    std::vector<cl_kernel> split = {row_mask_.get(), insight_cast_.get()};
+    std::vector<cl_kernel> split = {row_mask_.get(), insight_claim_.get()};
     for (int k = 0; k < 2; ++k) {
       split.push_back(classify_bands_[k].get());
       split.push_back(row_fuse_[k][0].get());
@@ -254,6 +259,7 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   band_rows_ =
       buffer(bands_ ? classify_bands * std::size_t(4 * h + 3) * std::size_t(BitWords()) * 8 : 8);
   stop_ = buffer(labels * 4);
+  claims_ = buffer(4);
   delta_ = buffer(padded * 4);
   GrowJob(kInitialJobInts);
   stop_host_.assign(labels, 0);
@@ -312,10 +318,13 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   SetArg(erode_dilate_.get(), 2, bits_c_.get());
   SetArg(dilate_cols_.get(), 0, bits_c_.get());
   SetArg(dilate_cols_.get(), 1, free_.get());
-  SetArgAll(insight_cast_.get(), 0, free_.get());
-  SetArgAll(insight_cast_.get(), 1, stop_.get());
-  SetArgAll(insight_cast_.get(), 4, cl_int(0));  // part 0
-  SetArgAll(insight_cast_.get(), 5, cl_int(1));  // of 1
+  SetArg(insight_cast_.get(), 0, free_.get());
+  SetArg(insight_cast_.get(), 1, stop_.get());
+  SetArgAll(insight_claim_.get(), 0, free_.get());
+  SetArgAll(insight_claim_.get(), 1, stop_.get());
+  SetArgAll(insight_claim_.get(), 4, claims_.get());
+  SetArgAll(insight_claim_.get(), 5,
+            cl_int((labels + kClaimsPerDevice * devices_ - 1) / (kClaimsPerDevice * devices_)));
   for (int k = 0; k < 2; ++k) {
     SetArg(fuse_[k].get(), 0, map_[k].get());
     SetArg(fuse_[k].get(), 1, update_.get());
@@ -707,24 +716,24 @@ void OpenClBackend::Classify() {
 void OpenClBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
   if (crew_) crew_->Wake();
   Flush();
-  const cl_kernel cast = insight_cast_.get();
-  SetArgAll(cast, 2, cl_int(vehicle.col));
-  SetArgAll(cast, 3, cl_int(vehicle.row));
   opencl::Event begin, end;
   if (devices_ > 1) {
-    // Part p of n takes work-groups p, p + n, ... (the rays' lengths differ by side), every
-    // part with the same global size.
-    const std::size_t groups = cast_global_ / cast_local_;
-    const int count = int(std::min(groups, std::size_t(devices_)));
-    const std::size_t global = (groups + std::size_t(count) - 1) / std::size_t(count) * cast_local_;
-    SetArgAll(cast, 5, cl_int(count));
-    SplitRun(count, [&](int part, int d, cl_event* e) {
-      const cl_kernel twin = Twin(cast, d);
-      SetArg(twin, 4, cl_int(part));
-      Launch(QueueOf(d), twin, 1, &global, &cast_local_, e);
+    // One work-item per device, each claiming chunks of labels until none is left (the rays'
+    // lengths differ by side and by map, the devices' speeds by what else runs); the claim
+    // counter starts at 0 (the fill runs at SplitRun's finish of queue_).
+    const cl_kernel claim = insight_claim_.get();
+    SetArgAll(claim, 2, cl_int(vehicle.col));
+    SetArgAll(claim, 3, cl_int(vehicle.row));
+    Fill(claims_.get(), 4);
+    SplitRun(devices_, [&](int, int d, cl_event* e) {
+      const std::size_t one = 1;
+      Launch(QueueOf(d), Twin(claim, d), 1, &one, &one, e);
     });
     begin = Retained(split_parts_[0].get());
   } else {
+    const cl_kernel cast = insight_cast_.get();
+    SetArg(cast, 2, cl_int(vehicle.col));
+    SetArg(cast, 3, cl_int(vehicle.row));
     Launch(cast, 1, &cast_global_, &cast_local_, begin.out());
   }
   Check(clEnqueueReadBuffer(queue_.get(), stop_.get(), CL_FALSE, 0, stop_host_.size() * 4,

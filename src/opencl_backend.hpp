@@ -62,9 +62,9 @@ class OpenClBackend final : public Backend {
   // shape does the edges in the row pass), plus the row pass when it ran on its own; fuse_us:
   // the row pass of stage 1 with the fusion (and a deferred map shift) folded in, or fuse.
   // Conventional model: ray upload + rays_cast, and rays_fuse. classify_us: the classify
-  // kernels (classify_levels included when it ran). insight_us: insight_cast and reading the
-  // stop cells back. Each measurement is reported once; stages that did not run since the last
-  // call keep the caller's values.
+  // kernels (classify_levels included when it ran). insight_us: insight_cast (split:
+  // insight_claim) and reading the stop cells back. Each measurement is reported once; stages
+  // that did not run since the last call keep the caller's values.
   bool KernelTimes(StageTimes* times) const override;
 
   // The padded cell layout of the device buffers (kernels/common.cl): PAD_Y zero rows above
@@ -163,11 +163,12 @@ class OpenClBackend final : public Backend {
   opencl::Mem free_;              // stage 3 output, stage 4 input: bitset
   opencl::Mem band_rows_;         // classify_bands: the rows each band keeps (classify.cl)
   opencl::Mem stop_;              // stage 4 output: stop cell per label
+  opencl::Mem claims_;            // insight_claim's counter of the chunks claimed, one int
   opencl::Mem delta_;             // conventional model: per-cell sum of one scan's rays
   opencl::Mem job_;               // the raster or ray job (rasterize.cl, rays.cl)
   std::size_t job_capacity_ = 0;  // ints
 
-  opencl::Kernel rasterize_edges_, insight_cast_, rays_cast_;
+  opencl::Kernel rasterize_edges_, insight_cast_, insight_claim_, rays_cast_;
   opencl::Kernel erode_dilate_, dilate_cols_;
   std::array<opencl::Kernel, 2> fuse_, rays_fuse_, levels_, shift_, hysteresis_,
       classify_bands_;  // per map buffer
