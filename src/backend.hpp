@@ -16,6 +16,8 @@
 
 namespace freespace {
 
+class Crew;
+
 // Polygon vertices reach the kernels in fixed point: 1/256 of a cell, in map cell coordinates
 // (x = column axis, y = row axis). Integer geometry keeps every backend exact.
 inline constexpr int kFixedBits = 8;
@@ -127,6 +129,13 @@ class Backend {
   Backend& operator=(const Backend&) = delete;
 
   virtual std::string name() const = 0;
+
+  // The threads the backend keeps for itself, if any, on which the host's parallel passes
+  // between scans' kernel stages (the clutter filter) should run instead of on TBB's: so that
+  // the process has one busy thread per core and the backend's threads are awake when its
+  // stages start. The OpenCL backend split over several devices returns its crew; nullptr: use
+  // TBB.
+  virtual Crew* HostCrew() { return nullptr; }
   const KernelParams& params() const { return params_; }
 
   // Kernel stage 1 (enhanced inverse sensor model). Rewrites the update mask on rows

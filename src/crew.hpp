@@ -41,6 +41,8 @@ class Crew {
   Crew(const Crew&) = delete;
   Crew& operator=(const Crew&) = delete;
 
+  static constexpr int kMaxParts = 65535;  // of one Run
+
   int helpers() const { return int(threads_.size()); }
   // Helpers asleep now (for the tests).
   int sleeping() const { return sleepers_.load(); }
@@ -48,7 +50,7 @@ class Crew {
   // Runs task(p, thread) once for every p in [0, parts), on the calling thread (thread 0) and on
   // the helpers (1 .. helpers()) that ask for work before the parts run out; returns when all
   // are done. Rethrows the first exception a part threw (the other parts still run). Not
-  // reentrant; one caller. Allocates nothing. At most 65535 parts.
+  // reentrant; one caller. Allocates nothing. At most kMaxParts parts.
   template <typename Task>
   void Run(int parts, const Task& task) {
     RunErased(parts, &Invoke<Task>, &task);

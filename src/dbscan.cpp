@@ -19,6 +19,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "crew.hpp"
+
 namespace freespace {
 namespace {
 constexpr int kGrain = 128;
@@ -66,6 +68,9 @@ int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::ui
   const int n = int(points.size());
   keep->assign(n, 1);
   if (!config_.enabled || n == 0) return 0;
+  // The crew's helpers may sleep between scans: wake them now, while the sort below runs, and
+  // keep them polling into the backend's stages that follow.
+  if (crew_ != nullptr) crew_->Wake();
 
   // Counting sort by bin; stable, so scan order is kept within a bin.
   std::fill(bin_start_.begin(), bin_start_.end(), 0);
@@ -103,6 +108,15 @@ int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::ui
     return dx * dx + dy * dy <= e * e;
   };
   auto parallel = [&](auto&& body) {
+    if (crew_ != nullptr) {
+      // Chunks of kGrain echoes (more when there would be more chunks than a round can have).
+      const int grain = std::max(kGrain, (n + Crew::kMaxParts - 1) / Crew::kMaxParts);
+      crew_->Run((n + grain - 1) / grain, [&](int part, int) {
+        const int end = std::min(n, (part + 1) * grain);
+        for (int a = part * grain; a < end; ++a) body(a);
+      });
+      return;
+    }
     arena_.execute([&] {
       tbb::parallel_for(tbb::blocked_range<int>(0, n, kGrain),
                         [&](const tbb::blocked_range<int>& range) {

@@ -14,6 +14,8 @@
 
 namespace freespace {
 
+class Crew;
+
 // An echo in the sensor frame (metres) with its angular bin.
 struct EchoPoint {
   float x = 0.0f;
@@ -32,6 +34,10 @@ class ClutterFilter {
   // rest (clutter). Returns the number of clutter echoes. Deterministic for a given input.
   int Run(const std::vector<EchoPoint>& points, std::vector<std::uint8_t>* keep);
 
+  // Runs the parallel passes on `crew` (calling thread included; not owned) instead of in a
+  // TBB arena; nullptr: TBB again. The result is the same either way.
+  void UseCrew(Crew* crew) { crew_ = crew; }
+
  private:
   int Find(int a) const;
   void Unite(int a, int b);
@@ -41,6 +47,7 @@ class ClutterFilter {
   int bins_;
   double bin_width_;
   tbb::task_arena arena_;
+  Crew* crew_ = nullptr;
   // Points in bin order, structure of arrays.
   std::vector<std::int32_t> bin_start_;
   std::vector<std::int32_t> cursor_;

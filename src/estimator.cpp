@@ -36,6 +36,7 @@ Estimator::Estimator(const Config& config) : config_(config) {
   config_.Validate();
   backend_ = CreateBackend(config_);
   preprocess_ = std::make_unique<Preprocessor>(config_);
+  preprocess_->UseCrew(backend_->HostCrew());
   aligner_ = std::make_unique<CircleAligner>(config_);
   if (config_.alignment.kind == AlignmentKind::kRotate) {
     warper_ = std::make_unique<MapWarper>(config_);

@@ -38,6 +38,7 @@ class OpenClBackend final : public Backend {
 
   // "opencl: <device name>".
   std::string name() const override { return name_; }
+  Crew* HostCrew() override { return crew_.get(); }
 
   void Rasterize(const RasterJob& job) override;                            // rasterize.cl
   void Fuse(int row_begin, int row_end) override;                           // fuse.cl

@@ -33,6 +33,9 @@ class Preprocessor {
   // which case it makes no sensor update.
   bool Run(const Scan& scan, ScanStats* stats);
 
+  // The clutter filter's parallel passes on `crew` (Backend::HostCrew); nullptr: on TBB.
+  void UseCrew(Crew* crew) { clutter_.UseCrew(crew); }
+
   // Projects the beams and kept echoes into the map: sensor at `sensor_cells` (map cells,
   // fractional) with heading `yaw`. Fills `job` with pointers into this object's buffers.
   void Project(const Vec2& sensor_cells, double yaw, int width, int height, RasterJob* job);

@@ -2,6 +2,7 @@
 // blobs against a brute-force all-pairs DBSCAN.
 #include <random>
 
+#include "crew.hpp"
 #include "dbscan.hpp"
 #include "test_util.hpp"
 
@@ -130,6 +131,42 @@ TEST(Clutter, MatchesAllPairsDbscanOnRandomBlobs) {
     std::vector<std::uint8_t> keep;
     filter.Run(points, &keep);
     EXPECT_EQ(keep, BruteForce(points, c)) << "trial " << trial;
+  }
+}
+
+// The passes on a backend's own threads (Backend::HostCrew, as the OpenCL backend split over
+// devices has) give the same result as on TBB's, with many chunks per pass and threads racing
+// on the union-find.
+TEST(Clutter, OnACrewMatchesTbbAndAllPairsDbscan) {
+  std::mt19937 rng(31);
+  const ClutterConfig c = Params(0.4, 0.01);
+  Crew one(1), three(3);
+  for (int trial = 0; trial < 6; ++trial) {
+    std::vector<EchoPoint> points;
+    std::uniform_real_distribution<double> range(1.0, 60.0), angle(-1.2, 1.2);
+    std::normal_distribution<double> jitter(0.0, 0.2);
+    for (int blob = 0; blob < 400; ++blob) {
+      const double r = range(rng), a = angle(rng);
+      const int size = int(rng() % 12);
+      for (int k = 0; k < size; ++k) {
+        points.push_back(At(r * std::cos(a) + jitter(rng), r * std::sin(a) + jitter(rng)));
+      }
+    }
+    ASSERT_GT(points.size(), 1500u);  // a dozen chunks of 128 echoes and more
+    std::shuffle(points.begin(), points.end(), rng);
+    ClutterFilter tbb(c, kBins, kBin), on_one(c, kBins, kBin), on_three(c, kBins, kBin);
+    on_one.UseCrew(&one);
+    on_three.UseCrew(&three);
+    std::vector<std::uint8_t> a, b, d;
+    const int clutter = tbb.Run(points, &a);
+    EXPECT_EQ(on_one.Run(points, &b), clutter) << "trial " << trial;
+    EXPECT_EQ(on_three.Run(points, &d), clutter) << "trial " << trial;
+    EXPECT_EQ(b, a) << "trial " << trial;
+    EXPECT_EQ(d, a) << "trial " << trial;
+    EXPECT_EQ(a, BruteForce(points, c)) << "trial " << trial;
+    // Some clusters kept, some dropped: the comparison has both kinds.
+    EXPECT_GT(clutter, 0);
+    EXPECT_LT(clutter, int(points.size()));
   }
 }
 
