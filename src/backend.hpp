@@ -136,6 +136,7 @@ class Backend {
   // stages start. The OpenCL backend split over several devices returns its crew; nullptr: use
   // TBB.
   virtual Crew* HostCrew() { return nullptr; }
+
   const KernelParams& params() const { return params_; }
 
   // Kernel stage 1 (enhanced inverse sensor model). Rewrites the update mask on rows

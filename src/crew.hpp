@@ -1,7 +1,9 @@
 // Threads of a backend's own for work that must stay on one thread per device: the OpenCL
 // backend split over several CPU devices (BackendConfig::opencl_devices) runs part of every
 // split kernel on each device, and PoCL's basic device runs a command on the thread that
-// enqueues it, so each device needs a thread of its own to use a core of its own.
+// enqueues it, so each device needs a thread of its own to use a core of its own. The estimator
+// runs the clutter filter's parallel passes on the same crew (Backend::HostCrew), so that no
+// other pool of threads competes with it for the cores.
 //
 // Run(parts, task) hands the parts 0 .. parts - 1 out to the calling thread (thread 0) and the
 // helpers (threads 1 .. helpers()), each part to whichever thread asks first, and returns once
