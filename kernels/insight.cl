@@ -133,6 +133,8 @@ __kernel void insight_claim(__global const ulong* free, __global int* stop, int 
   const int chunks = (INSIGHT_LABELS + chunk - 1) / chunk;
   for (int c = atomic_inc(next); c < chunks; c = atomic_inc(next)) {
     const int last = min((c + 1) * chunk, INSIGHT_LABELS);
-    for (int l = c * chunk; l < last; ++l) stop[l] = InsightLabel(free, vehicle_col, vehicle_row, l);
+    for (int l = c * chunk; l < last; ++l) {
+      stop[l] = InsightLabel(free, vehicle_col, vehicle_row, l);
+    }
   }
 }
