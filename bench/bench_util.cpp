@@ -3,6 +3,16 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <map>
+
+#include "core/crew.hpp"
+#ifdef FREESPACE_WITH_OPENCL
+#include "opencl/pocl.hpp"
+#else
+namespace freespace {
+constexpr const char* kPoclPlatform = "(this build has no OpenCL backend)";
+}  // namespace freespace
+#endif
 
 namespace freespace::bench {
 
@@ -85,7 +95,16 @@ BackendConfig BenchBackend(std::int64_t arg) {
 std::unique_ptr<Backend> MakeBackend(const BackendConfig& config, const KernelParams& params,
                                      std::string* why) {
   try {
-    return CreateBackend(config, params);
+    std::unique_ptr<Backend> backend = CreateBackend(config, params);
+    // One crew per size for the whole run, as an estimator would own one.
+    static std::map<int, std::unique_ptr<Crew>> crews;
+    const Backend::CrewRequest request = backend->WantedCrew();
+    if (request.helpers > 0) {
+      std::unique_ptr<Crew>& crew = crews[request.helpers];
+      if (!crew) crew = std::make_unique<Crew>(request.helpers, request.linger, request.window);
+      backend->UseCrew(crew.get());
+    }
+    return backend;
   } catch (const std::exception& e) {
     *why = e.what();
     return nullptr;

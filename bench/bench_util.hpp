@@ -10,10 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "alignment.hpp"
-#include "backend.hpp"
+#include "core/alignment.hpp"
+#include "core/backend.hpp"
+#include "core/preprocess.hpp"
+#include "engine/backend_factory.hpp"
 #include "freespace/freespace.hpp"
-#include "preprocess.hpp"
 
 namespace freespace::bench {
 

@@ -6,7 +6,9 @@
 // measures itself (OpenCL event profiling), the counter device_us is the stage's mean device time,
 // outside the timed region.
 #include "bench_util.hpp"
-#include "polygon.hpp"
+#include "core/inside_polygon.hpp"
+#include "core/margin.hpp"
+#include "core/simplifier.hpp"
 
 namespace freespace::bench {
 namespace {

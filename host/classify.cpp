@@ -18,7 +18,7 @@
 #include <emmintrin.h>
 #endif
 
-#include "host_backend.hpp"
+#include "host/host_backend.hpp"
 
 namespace freespace {
 namespace {

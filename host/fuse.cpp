@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "host_backend.hpp"
+#include "host/host_backend.hpp"
 
 namespace freespace {
 

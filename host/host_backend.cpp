@@ -1,6 +1,6 @@
 // HostBackend: construction, buffers and the copies in and out. The stages themselves are in
 // rasterize.cpp, fuse.cpp, classify.cpp, insight.cpp and shift.cpp beside this file.
-#include "host_backend.hpp"
+#include "host/host_backend.hpp"
 
 #include <algorithm>
 #include <array>

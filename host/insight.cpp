@@ -15,7 +15,7 @@
 
 #include <algorithm>
 
-#include "host_backend.hpp"
+#include "host/host_backend.hpp"
 
 namespace freespace {
 namespace {

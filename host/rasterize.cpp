@@ -10,7 +10,7 @@
 #include <algorithm>
 #include <cstring>
 
-#include "host_backend.hpp"
+#include "host/host_backend.hpp"
 
 namespace freespace {
 namespace host {

@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "host_backend.hpp"
+#include "host/host_backend.hpp"
 
 namespace freespace {
 

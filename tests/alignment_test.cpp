@@ -1,13 +1,16 @@
 // Vehicle on a circle (paper III): static world points keep their world position while the map
 // shifts, the vehicle never leaves the map, reversing puts more map behind, yaw wraps, and bad
 // timestamps and pose jumps are rejected without changing anything.
-#include "alignment.hpp"
+#include "core/alignment.hpp"
 
 #include <random>
 
-#include "host_backend.hpp"
-#include "polygon.hpp"
-#include "reference_map.hpp"
+#include "baselines/map_warper.hpp"
+#include "core/inside_polygon.hpp"
+#include "core/margin.hpp"
+#include "core/simplifier.hpp"
+#include "eval/reference_map.hpp"
+#include "host/host_backend.hpp"
 #include "test_util.hpp"
 
 namespace freespace {

@@ -2,8 +2,8 @@
 // blobs against a brute-force all-pairs DBSCAN.
 #include <random>
 
-#include "crew.hpp"
-#include "dbscan.hpp"
+#include "core/crew.hpp"
+#include "core/dbscan.hpp"
 #include "test_util.hpp"
 
 namespace freespace {

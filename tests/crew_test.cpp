@@ -1,5 +1,5 @@
 // Crew (src/crew.hpp): the threads that drive the other devices of a split OpenCL backend.
-#include "crew.hpp"
+#include "core/crew.hpp"
 
 #include <gtest/gtest.h>
 

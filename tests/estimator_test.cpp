@@ -5,9 +5,11 @@
 // area at all on a not-free cell, nor, with a margin, on a cell next to an occupied one.
 #include <random>
 
-#include "host_backend.hpp"
-#include "polygon.hpp"
-#include "sim/geometry.hpp"
+#include "core/inside_polygon.hpp"
+#include "core/margin.hpp"
+#include "core/simplifier.hpp"
+#include "geometry/geometry.hpp"
+#include "host/host_backend.hpp"
 #include "test_util.hpp"
 
 long AllocationCount();  // tests/alloc_counter.cpp
@@ -271,7 +273,7 @@ TEST_P(EstimatorTest, IntelLabInsidePolygonsCoverFreeCellsOnly) {
     if (r.scan_index % 15 != 0) continue;
     // The polygon's exact area on every not-free cell is zero (up to rounding).
     const MapView map = estimator->map();
-    sim::Polygon p(r.polygon_cells.begin(), r.polygon_cells.end());
+    geometry::Polygon p(r.polygon_cells.begin(), r.polygon_cells.end());
     double x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;
     for (const Vec2& v : p) {
       x0 = std::min(x0, v.x()), y0 = std::min(y0, v.y());
@@ -288,7 +290,7 @@ TEST_P(EstimatorTest, IntelLabInsidePolygonsCoverFreeCellsOnly) {
         if (map.free[i]) continue;
         const bool near = std::abs(row - sensor_row) <= 1 && std::abs(col - sensor_col) <= 1;
         if ((row == sensor_row && col == sensor_col) || (near && map.log_odds[i] < 0)) continue;
-        area += sim::AreaInBox(p, col, row, col + 1, row + 1);
+        area += geometry::AreaInBox(p, col, row, col + 1, row + 1);
       }
     }
     ASSERT_LE(area, 1e-6) << "scan " << r.scan_index;
@@ -330,7 +332,7 @@ TEST_P(EstimatorTest, IntelLabInsidePolygonMarginKeepsOffOccupiedCells) {
     containing += r.polygon_contains_vehicle ? 1 : 0;
     if (r.scan_index % 15 != 0) continue;
     const MapView map = estimator->map();
-    sim::Polygon p(r.polygon_cells.begin(), r.polygon_cells.end());
+    geometry::Polygon p(r.polygon_cells.begin(), r.polygon_cells.end());
     const int sensor_col = int(std::floor(r.vehicle_cells.x()));
     const int sensor_row = int(std::floor(r.vehicle_cells.y()));
     double area = 0.0;
@@ -348,7 +350,7 @@ TEST_P(EstimatorTest, IntelLabInsidePolygonMarginKeepsOffOccupiedCells) {
         }
         if (!near) continue;
         ++near_cells;
-        area += sim::AreaInBox(p, col, row, col + 1, row + 1);
+        area += geometry::AreaInBox(p, col, row, col + 1, row + 1);
       }
     }
     ASSERT_GT(near_cells, 0) << "scan " << r.scan_index;

@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "host_backend.hpp"
+#include "host/host_backend.hpp"
 #include "test_util.hpp"
 
 namespace freespace {

@@ -2,19 +2,19 @@
 // of 1 m cells with one obstacle, hand-drawn polygons, a seen area that moves with the map,
 // and the summary's pooled ratios; then the simulator and the estimator end to end, scored
 // in process and from the written log and truth, which must agree exactly.
-#include "metrics.hpp"
+#include "eval/metrics.hpp"
 
 #include <filesystem>
 
-#include "sim/scorer.hpp"
+#include "eval/scorer.hpp"
 #include "sim/simulator.hpp"
 #include "test_util.hpp"
 
 namespace freespace {
 namespace {
 
-using sim::Box;
-using sim::Polygon;
+using geometry::Box;
+using geometry::Polygon;
 
 // A 4 x 4 map of 1 m cells with its corner at the world origin. Rows are listed north first
 // (as the map is drawn); F observed free (log-odds -100), O observed occupied (+100), . unknown.
@@ -42,7 +42,7 @@ struct HandMap {
   }
 };
 
-sim::Polygon WholeMap() { return Box(-10, -10, 10, 10); }
+geometry::Polygon WholeMap() { return Box(-10, -10, 10, 10); }
 
 TEST(Metrics, CellAccuracyAndFalseFreeByHand) {
   // One obstacle: the square [1.25, 1.75]^2 inside cell (row 1, col 1). Its neighbours only

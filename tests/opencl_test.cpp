@@ -17,9 +17,10 @@
 #include <tuple>
 #include <vector>
 
-#include "host_backend.hpp"
-#include "opencl_backend.hpp"
-#include "opencl_runtime.hpp"
+#include "host/host_backend.hpp"
+#include "opencl/backend.hpp"
+#include "opencl/pocl.hpp"
+#include "opencl/runtime.hpp"
 #include "test_util.hpp"
 
 namespace freespace {

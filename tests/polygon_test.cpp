@@ -4,11 +4,12 @@
 // covers free cells only, is star-shaped around the sensor, has at most N vertices, and on an
 // open map is the whole rectangle its border rays reach. Its safety margin on hand-made maps:
 // exactly the cells within k of an occupied cell in the cone, never the sensor's own.
-#include "polygon.hpp"
-
 #include <random>
 
-#include "sim/geometry.hpp"
+#include "core/inside_polygon.hpp"
+#include "core/margin.hpp"
+#include "core/simplifier.hpp"
+#include "geometry/geometry.hpp"
 #include "test_util.hpp"
 
 namespace freespace {
@@ -131,7 +132,8 @@ double AreaOnNotFree(const std::vector<Vec2>& polygon, const std::vector<std::ui
   double area = 0.0;
   for (int r = 0; r < height; ++r) {
     for (int c = 0; c < width; ++c) {
-      if (!free[std::size_t(r) * width + c]) area += sim::AreaInBox(polygon, c, r, c + 1, r + 1);
+      if (!free[std::size_t(r) * width + c])
+        area += geometry::AreaInBox(polygon, c, r, c + 1, r + 1);
     }
   }
   return area;
@@ -201,7 +203,7 @@ TEST(InsidePolygon, OpenMapGivesTheBorderCentresRectangle) {
     InsidePolygonBuilder builder(width, height, 32, 0.0);
     std::vector<Vec2> polygon;
     EXPECT_EQ(builder.Build(free.data(), sensor, &polygon), 0.0);
-    EXPECT_NEAR(std::abs(sim::SignedArea(polygon)), (width - 1.0) * (height - 1.0), 1e-9);
+    EXPECT_NEAR(std::abs(geometry::SignedArea(polygon)), (width - 1.0) * (height - 1.0), 1e-9);
     EXPECT_TRUE(PointInPolygon(polygon, sensor));
   }
 }
@@ -326,7 +328,7 @@ TEST(PolygonMargin, TheSensorsOwnCellStaysAndThePolygonHoldsTheVehicle) {
     std::vector<Vec2> polygon;
     builder.Build(free.data(), map.sensor, &polygon);
     EXPECT_TRUE(PointInPolygon(polygon, map.sensor)) << "cone " << cone;
-    EXPECT_GT(std::abs(sim::SignedArea(polygon)), 1.0) << "cone " << cone;
+    EXPECT_GT(std::abs(geometry::SignedArea(polygon)), 1.0) << "cone " << cone;
     EXPECT_LE(AreaOnNotFree(polygon, free, map.width, map.height), 1e-9) << "cone " << cone;
   }
 }

@@ -1,6 +1,6 @@
 // Preprocessing: validation of every bad point, the nearest return across layers, virtual
 // points, and the projection into fixed-point map coordinates.
-#include "preprocess.hpp"
+#include "core/preprocess.hpp"
 
 #include "test_util.hpp"
 

@@ -2,7 +2,7 @@
 // exact brute-force oracle on random polygons, odd sizes, and both backends.
 #include <random>
 
-#include "host_backend.hpp"
+#include "host/host_backend.hpp"
 #include "test_util.hpp"
 
 namespace freespace {

@@ -2,7 +2,7 @@
 // cells updated as often as rays cross them, on both backends.
 #include <random>
 
-#include "host_backend.hpp"
+#include "host/host_backend.hpp"
 #include "test_util.hpp"
 
 namespace freespace {

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "sim/geometry.hpp"
+#include "geometry/geometry.hpp"
 #include "sim/scanner.hpp"
 #include "sim/scenarios.hpp"
 #include "sim/simulator.hpp"

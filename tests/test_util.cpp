@@ -1,9 +1,31 @@
 // Shared test helpers.
 #include "test_util.hpp"
 
-#include "host_backend.hpp"
+#include <map>
+
+#include "core/crew.hpp"
+#include "engine/backend_factory.hpp"
+#include "freespace/baselines.hpp"
+#include "host/host_backend.hpp"
 
 namespace freespace::test {
+namespace {
+
+// The rotated-map baseline is there for every test that configures it.
+const bool kBaselinesRegistered = (RegisterBaselines(), true);
+
+}  // namespace
+
+void AttachCrew(Backend* backend) {
+  // One crew per size for the whole test run, as an estimator would own one: a backend split
+  // over several devices gets its helpers, so that the split runs on threads as it does there.
+  static std::map<int, std::unique_ptr<Crew>> crews;
+  const Backend::CrewRequest request = backend->WantedCrew();
+  if (request.helpers <= 0) return;
+  std::unique_ptr<Crew>& crew = crews[request.helpers];
+  if (!crew) crew = std::make_unique<Crew>(request.helpers, request.linger, request.window);
+  backend->UseCrew(crew.get());
+}
 
 std::unique_ptr<Backend> MakeBackend(BackendKind kind, const KernelParams& params,
                                      std::string* skip_reason) {
@@ -15,7 +37,9 @@ std::unique_ptr<Backend> MakeBackend(BackendKind kind, const KernelParams& param
   BackendConfig backend;
   backend.kind = BackendKind::kOpenCl;
   try {
-    return CreateBackend(backend, params);
+    std::unique_ptr<Backend> made = CreateBackend(backend, params);
+    AttachCrew(made.get());
+    return made;
   } catch (const BackendError& e) {
     *skip_reason = std::string("no usable OpenCL device: ") + e.what();
     return nullptr;

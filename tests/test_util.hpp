@@ -11,7 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "backend.hpp"
+#include "core/backend.hpp"
+#include "engine/backend_factory.hpp"
 #include "freespace/freespace.hpp"
 
 namespace freespace::test {
@@ -44,6 +45,10 @@ inline std::string BackendParamName(const ::testing::TestParamInfo<BackendKind>&
 // available, sets `skip_reason` and returns null.
 std::unique_ptr<Backend> MakeBackend(BackendKind kind, const KernelParams& params,
                                      std::string* skip_reason);
+
+// Gives `backend` the helper threads it asks for (Backend::WantedCrew), from crews that live as
+// long as the test process.
+void AttachCrew(Backend* backend);
 
 // A config whose map is width x height and that stays valid for tiny maps.
 Config SmallConfig(int width, int height, double resolution = 0.2);

@@ -1,6 +1,6 @@
 // WaitPolicy: how the OpenCL backend waits for a scan's result. The waits are made up here, so
 // the choices are checked without a device or a clock.
-#include "wait_policy.hpp"
+#include "opencl/wait_policy.hpp"
 
 #include <gtest/gtest.h>
 

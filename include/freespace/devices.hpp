@@ -30,6 +30,9 @@ struct ComputePlatform {
   std::string name;     // CL_PLATFORM_NAME
   std::string version;  // CL_PLATFORM_VERSION
   std::vector<ComputeDevice> devices;
+  // What else the platform can list when told to (e.g. a device that an environment variable
+  // enables); empty when nothing.
+  std::string note;
 };
 
 struct DeviceList {
@@ -45,13 +48,5 @@ struct DeviceList {
 // Lists every OpenCL platform and device and marks the one the OpenCL backend would choose
 // with `config`. Never throws for a missing platform or device: that is `error`.
 DeviceList ListComputeDevices(const BackendConfig& config);
-
-// The name PoCL gives its platform.
-inline constexpr const char* kPoclPlatform = "Portable Computing Language";
-
-// Whether `platform` is PoCL listing its pthread CPU device but not its basic one, which PoCL
-// lists only when POCL_DEVICES names it (POCL_DEVICES="pthread basic"; docs/opencl.md, "PoCL's
-// two CPU devices").
-bool PoclHidesBasicDevice(const ComputePlatform& platform);
 
 }  // namespace freespace

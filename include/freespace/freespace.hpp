@@ -6,5 +6,6 @@
 #include "freespace/errors.hpp"
 #include "freespace/estimator.hpp"
 #include "freespace/io.hpp"
+#include "freespace/result.hpp"
 #include "freespace/scan.hpp"
 #include "freespace/types.hpp"

@@ -11,10 +11,10 @@
 #include <iostream>
 #include <memory>
 
-#include "bench_suite.hpp"
 #include "commands.hpp"
+#include "eval/bench_suite.hpp"
 #include "freespace/freespace.hpp"
-#include "plot.hpp"
+#include "output/plot.hpp"
 #include "quality_report.hpp"
 #include "sim_options.hpp"
 

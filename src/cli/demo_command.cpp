@@ -12,10 +12,11 @@
 #include <opencv2/videoio.hpp>
 
 #include "commands.hpp"
+#include "eval/scorer.hpp"
 #include "freespace/freespace.hpp"
+#include "output/render.hpp"
+#include "output/report.hpp"
 #include "quality_report.hpp"
-#include "render.hpp"
-#include "sim/scorer.hpp"
 #include "sim_options.hpp"
 
 namespace freespace::cli {

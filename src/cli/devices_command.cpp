@@ -120,11 +120,7 @@ int Devices(const DevicesOptions& options) {
               d.opencl_c_version.c_str(), d.driver_version.c_str(),
               d.available ? "" : " (not available)", d.compiler ? "" : " (no compiler)");
         }
-        if (PoclHidesBasicDevice(p)) {
-          std::printf(
-              "    (PoCL's \"basic\" device, which runs the kernels on the calling thread, is "
-              "listed with POCL_DEVICES=\"pthread basic\")\n");
-        }
+        if (!p.note.empty()) std::printf("    (%s)\n", p.note.c_str());
       }
       if (chosen == nullptr) {
         std::printf("backend opencl fails; backend auto takes tbb\n");

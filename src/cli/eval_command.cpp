@@ -4,9 +4,9 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "eval/scorer.hpp"
 #include "freespace/freespace.hpp"
 #include "quality_report.hpp"
-#include "sim/scorer.hpp"
 
 namespace freespace::cli {
 namespace {

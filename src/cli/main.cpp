@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "freespace/baselines.hpp"
 #include "freespace/errors.hpp"
 
 namespace freespace::cli {
@@ -65,6 +66,7 @@ void MakeDirectories(const std::string& dir) {
 }  // namespace freespace::cli
 
 int main(int argc, char** argv) {
+  freespace::RegisterBaselines();  // alignment.kind rotate, for configs that ask for it
   CLI::App app{
       "freespace: static free-space detection with a laser scanner on occupancy grid maps.\n"
       "Turns full scans plus odometry into a local occupancy grid and one free-space polygon\n"

@@ -6,8 +6,8 @@
 #include <ostream>
 #include <string>
 
-#include "metrics.hpp"
-#include "report.hpp"
+#include "eval/metrics.hpp"
+#include "eval/stage_stats.hpp"
 
 namespace freespace::cli {
 

@@ -11,9 +11,10 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "eval/stage_stats.hpp"
 #include "freespace/freespace.hpp"
-#include "render.hpp"
-#include "report.hpp"
+#include "output/render.hpp"
+#include "output/report.hpp"
 
 namespace freespace::cli {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "sim/geometry.hpp"
+#include "geometry/geometry.hpp"
 
 namespace freespace::sim {
 
@@ -42,14 +42,14 @@ Pose2D Odometry::Update(double t, const Pose2D& truth) {
   }
   const double dt = t - last_t_;
   // The true motion in the previous vehicle frame, distorted as wheel speed and yaw rate are.
-  const Pose2D step = Compose(Inverse(last_truth_), truth);
+  const Pose2D step = geometry::Compose(geometry::Inverse(last_truth_), truth);
   const double distance = std::hypot(step.x, step.y);
   const double noisy =
       distance * (1.0 + noise_.speed_scale_error) + noise_.speed_sigma_mps * dt * rng_.Normal();
   const double scale = distance > 0.0 ? noisy / distance : 0.0;
   const double dyaw = step.yaw + (noise_.yaw_rate_bias_dps * M_PI / 180.0) * dt +
                       (noise_.yaw_rate_sigma_dps * M_PI / 180.0) * dt * rng_.Normal();
-  pose_ = Compose(pose_, Pose2D{step.x * scale, step.y * scale, dyaw});
+  pose_ = geometry::Compose(pose_, Pose2D{step.x * scale, step.y * scale, dyaw});
   last_t_ = t;
   last_truth_ = truth;
   return pose_;

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "sim/geometry.hpp"
+#include "geometry/geometry.hpp"
 #include "sim/random.hpp"
 
 namespace freespace::sim {

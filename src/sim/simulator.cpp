@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "sim/geometry.hpp"
+#include "geometry/geometry.hpp"
 
 namespace freespace::sim {
 namespace {

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "freespace/errors.hpp"
-#include "sim/geometry.hpp"
+#include "geometry/geometry.hpp"
 
 namespace freespace::sim {
 namespace {

@@ -1,0 +1,138 @@
+// The TBB host backend: every kernel stage as a parallel loop over rows (or rays) on the CPU,
+// inside a task arena sized by backend.threads. It is also the oracle the OpenCL backend is
+// tested against, bit for bit. Each stage lives in the file with the kernel's stem.
+#pragma once
+
+#include <tbb/task_arena.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "core/backend.hpp"
+
+// Row loops of the host stages are compiled for AVX-512, AVX2 and the baseline, picked at
+// load time for the CPU at hand. Integer arithmetic only, so every variant gives the same bits.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define FREESPACE_ROW_LOOP __attribute__((target_clones("arch=skylake-avx512", "avx2", "default")))
+#else
+#define FREESPACE_ROW_LOOP
+#endif
+
+namespace freespace {
+
+class HostBackend final : public Backend {
+ public:
+  // threads: 0 = all cores.
+  HostBackend(const KernelParams& params, int threads);
+
+  std::string name() const override { return "tbb"; }
+
+  void Rasterize(const RasterJob& job) override;                            // host/rasterize.cpp
+  void Fuse(int row_begin, int row_end) override;                           // host/fuse.cpp
+  void CastRays(const RayJob& job) override;                                // host/rays.cpp
+  void FuseRays(int row_begin, int row_end) override;                       // host/rays.cpp
+  void Classify() override;                                                 // host/classify.cpp
+  void InSight(CellIndex vehicle, std::vector<CellIndex>* edges) override;  // host/insight.cpp
+  void Shift(int dx, int dy) override;                                      // host/shift.cpp
+  void Clear() override;
+
+  void ReadLogOdds(LogOdds* dst) override;
+  void WriteLogOdds(const LogOdds* src) override;
+  void ReadUpdateMask(std::uint8_t* dst) override;
+  void WriteUpdateMask(const std::uint8_t* src) override;
+  void ReadFree(std::uint8_t* dst) override;
+  void ReadRayDelta(std::int32_t* dst) override;
+  void WriteFree(const std::uint8_t* src) override;
+
+  const LogOdds* HostLogOdds() const override { return map_.data(); }
+
+ private:
+  std::size_t cells() const { return std::size_t(params_.width) * params_.height; }
+  int words() const { return (params_.width + 63) / 64; }  // bitset words per row
+
+  tbb::task_arena arena_;
+  std::vector<LogOdds> map_;
+  std::vector<LogOdds> map_scratch_;  // the shift writes here, then swaps
+  // Every row of map_ (of map_scratch_) with a non-zero cell lies in known_ (scratch_known_).
+  RowSpan known_;
+  RowSpan scratch_known_;
+  // Every row with a set bit in stage 3's intermediate bitsets (strong, weak, a, b), and in
+  // free_.
+  RowSpan bits_rows_;
+  RowSpan free_rows_;
+  std::vector<std::uint8_t> update_;  // stage 1 -> stage 2
+  // Stage 3 bitsets, 64 cells a word, rows of (width + 63) / 64 words.
+  std::vector<std::uint64_t> bits_strong_, bits_weak_, bits_a_, bits_b_;
+  std::vector<std::uint64_t> free_;       // stage 3 output, stage 4 input: bitset rows
+  std::vector<std::uint64_t> edge_seen_;  // stage 4: stop cells already in C_Edge (bitset)
+  std::vector<std::int32_t> stop_;        // stage 4: stop cell per label
+  std::vector<std::int32_t> delta_;       // conventional model: per-cell sum of one scan's rays
+};
+
+// Row kernels shared by the host backend and the tests. Each computes one row exactly as the
+// OpenCL kernel of the same stem does for that row.
+namespace host {
+
+// Stage 1: toggles parity at each crossing of the polygon's edges with row `row`'s centre
+// line and turns the parity into kUpdateFree / kUpdateNone; `out` has `width` cells.
+void RasterizeRow(const std::int32_t* vertices, int vertex_count, int width, int row,
+                  std::uint8_t* out);
+
+// Conventional model: adds the deltas of the ray from (x0, y0) to (x1, y1) into `delta`
+// (width x height): l_free on every in-map cell before the end, l_occupied on the end cell.
+// Atomic adds, so rays may run in parallel.
+void AccumulateRay(std::int32_t* delta, int width, int height, int x0, int y0, int x1, int y1,
+                   int l_free, int l_occupied);
+
+// Stage 4: Bresenham from (x0, y0) to (x1, y1); returns the first cell after the start for
+// which is_free(x, y) is false, or the end cell, as row * width + col.
+template <class IsFree>
+std::int32_t CastRay(const IsFree& is_free, int width, int x0, int y0, int x1, int y1) {
+  const int dx = x1 > x0 ? x1 - x0 : x0 - x1, sx = x0 < x1 ? 1 : -1;
+  const int dy = -(y1 > y0 ? y1 - y0 : y0 - y1), sy = y0 < y1 ? 1 : -1;
+  int err = dx + dy;
+  int x = x0, y = y0;
+  while (true) {
+    // The vehicle's own cell never stops a ray.
+    if ((x != x0 || y != y0) && !is_free(x, y)) break;
+    if (x == x1 && y == y1) break;
+    const int e2 = 2 * err;
+    if (e2 >= dy) {
+      err += dy;
+      x += sx;
+    }
+    if (e2 <= dx) {
+      err += dx;
+      y += sy;
+    }
+  }
+  return y * width + x;
+}
+
+// The same over a free mask of one byte per cell.
+inline std::int32_t CastRay(const std::uint8_t* free, int width, int x0, int y0, int x1, int y1) {
+  return CastRay([=](int x, int y) { return free[y * width + x] != 0; }, width, x0, y0, x1, y1);
+}
+
+// Stage 4, a ray's steps in closed form: on a ray of n steps along its major axis and d <= n
+// steps along the other in all, CastRay's step k (0 .. n) lies floor((2 d k + n) / (2 n)) minor
+// steps off the start (by induction over its error term), the integer part of t = k d / n + 1/2.
+// With slope = RaySlope(n, d) = ceil(2^32 d / n), RayMinorStep(slope, k) = (2^31 + k slope) /
+// 2^32 is exact for n <= 46340: it exceeds 2^32 t by k (slope - 2^32 d / n) < k <= n, and
+// 2^32 t lies at least 2^32 / (2 n) below the next integer multiple of 2^32 (t is a multiple
+// of 1 / (2 n)), which n < 2^31 / n keeps out of reach. Maps have at most 8192 cells a side.
+inline std::uint64_t RaySlope(int n, int d) {
+  return ((std::uint64_t(d) << 32) + std::uint64_t(n - 1)) / std::uint64_t(n);
+}
+inline int RayMinorStep(std::uint64_t slope, int k) {
+  return int((std::uint64_t(k) * slope + 0x80000000u) >> 32);
+}
+
+// floor(a / b) for b > 0.
+inline std::int64_t FloorDiv(std::int64_t a, std::int64_t b) {
+  const std::int64_t q = a / b;
+  return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+
+}  // namespace host
+}  // namespace freespace

@@ -1,0 +1,111 @@
+// What the estimator returns for one scan (Result: status, poses, map placement, the
+// free-space polygon, stage times) and the read-only view of its map (MapView).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "freespace/types.hpp"
+
+namespace freespace {
+
+enum class ScanStatus {
+  kOk,              // the map was updated and the polygon extracted
+  kNoSensorUpdate,  // no usable return (empty scan, every beam without echo): the map was
+                    // aligned and the polygon extracted, but no cell was updated
+  kRejected,        // the scan was not used at all (see RejectReason); nothing changed
+};
+
+enum class RejectReason {
+  kNone,
+  kTimestampNotFinite,
+  kTimestampNotIncreasing,  // before the previous accepted scan by more than time_jitter_s
+  kPoseNotFinite,
+  kPoseJump,  // moved farther than max_speed_mps * dt + jump_slack_m since the last scan
+};
+
+// What preprocessing saw and did, in points (beams) of this scan.
+struct ScanStats {
+  int points = 0;           // beams in the scan
+  int echoes = 0;           // valid echoes before the clutter filter
+  int no_echo = 0;          // beams without echo (flagged, or range >= max - margin, or +inf)
+  int invalid_range = 0;    // NaN, negative, -inf or below min_range: treated as no echo
+  int out_of_aperture = 0;  // angle outside the sensor aperture (or not finite): dropped
+  int bad_layer = 0;        // layer >= sensor.layers: dropped
+  int clutter = 0;          // echoes removed by DBSCAN
+  int kept = 0;             // echoes marked occupied
+  int beams = 0;            // angular bins of the full-scan polygon
+  int virtual_points = 0;   // bins closed by a virtual point
+};
+
+// Microseconds spent per stage for this scan (wall clock on the host; OpenCL event times for
+// the kernel stages on the OpenCL backend, which folds the map shift and the fusion into the
+// row pass of stage 1: see docs/opencl.md).
+struct StageTimes {
+  double preprocess_us = 0;  // validation, DBSCAN, virtual points, projection
+  double align_us = 0;       // vehicle on a circle, including the map shift (host backend)
+  double rasterize_us = 0;   // kernel stage 1
+  double fuse_us = 0;        // kernel stage 2 (OpenCL: with stage 1's row pass and the shift)
+  double classify_us = 0;    // kernel stage 3: hysteresis + opening
+  double insight_us = 0;     // kernel stage 4: border rays, C_Edge
+  double polygon_us = 0;     // capped Douglas-Peucker, world coordinates
+  double total_us = 0;
+};
+
+struct Result {
+  std::uint64_t scan_index = 0;  // 0-based count of Process() calls
+  double timestamp_s = 0.0;
+  ScanStatus status = ScanStatus::kOk;
+  RejectReason reject_reason = RejectReason::kNone;
+  std::string message;            // why a scan was rejected or not used; empty when kOk
+  bool map_reset = false;         // the map was (re)started at this scan (first scan, or a jump)
+  bool timestamp_jitter = false;  // timestamp not after the previous scan's, but within
+                                  // alignment.time_jitter_s: used without a speed sample
+
+  Pose2D pose;           // the vehicle pose given with the scan
+  Pose2D sensor_pose;    // the sensor's world pose (pose composed with the mount)
+  Vec2 vehicle_cells;    // sensor position in the map, cells, fractional (eqs. 6, 7)
+  double yaw = 0.0;      // sensor yaw in the map (eq. 2), radians
+  double map_yaw = 0.0;  // rotation of the map's axes from the world's: 0 with the circle
+                         // alignment, the sensor's yaw with alignment.kind rotate
+  CellIndex vehicle_cell;
+  Vec2 origin;                     // world position (m) of the corner of cell (0, 0)
+  std::int64_t origin_cell_x = 0;  // origin in whole cells from the map's anchor
+  std::int64_t origin_cell_y = 0;
+  double filtered_speed_mps = 0.0;  // eq. (1); negative when reversing
+  double circle_radius_m = 0.0;
+  Vec2 circle_centre_cells;  // centre of the vehicle position circle, cells
+
+  // The free-space polygon, counter-clockwise, at most polygon.max_vertices vertices, in world
+  // metres and in map cells (continuous: cell (r, c) spans [c, c+1) x [r, r+1)).
+  std::vector<Vec2> polygon;
+  std::vector<Vec2> polygon_cells;
+  // C_Edge: the in-sight edge cells in label order (with polygon.shape paper, the unsimplified
+  // polygon's vertices).
+  std::vector<CellIndex> edge_cells;
+  double simplification_error_m = 0.0;  // largest distance of a dropped ring vertex
+  bool polygon_contains_vehicle = false;
+
+  ScanStats stats;
+  StageTimes times;
+};
+
+// A read-only view of the map as of the last Process(). Pointers stay valid until the next
+// call to Process(), Reset() or map(); row-major, row 0 southern, index = row * width + col.
+struct MapView {
+  int width = 0;
+  int height = 0;
+  double resolution_m = 0.0;
+  Vec2 origin;                         // world position of the corner of cell (0, 0)
+  double map_yaw = 0.0;                // rotation of the map's axes (0 but for alignment rotate)
+  const LogOdds* log_odds = nullptr;   // fused log-odds (kLogOddsScale units)
+  const std::uint8_t* free = nullptr;  // 1 where classified free after opening, else 0
+
+  double Probability(int row, int col) const;
+};
+
+const char* ToString(ScanStatus status);
+const char* ToString(RejectReason reason);
+
+}  // namespace freespace

@@ -1,0 +1,216 @@
+// The compute backend interface: one virtual method per kernel stage of the pipeline
+// (DESIGN.md: rasterize, fuse, classify + open, in-sight scan, map shift). The TBB host
+// backend (host/) and the OpenCL backend (kernels/, src/opencl_backend.cpp) implement it and
+// must give bit-identical results; CreateBackend() picks one from the config.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "freespace/config.hpp"
+#include "freespace/result.hpp"
+#include "freespace/types.hpp"
+
+namespace freespace {
+
+class Crew;
+
+// Polygon vertices reach the kernels in fixed point: 1/256 of a cell, in map cell coordinates
+// (x = column axis, y = row axis). Integer geometry keeps every backend exact.
+inline constexpr int kFixedBits = 8;
+inline constexpr std::int32_t kFixedOne = 1 << kFixedBits;
+inline constexpr std::int32_t kFixedHalf = kFixedOne / 2;
+
+// Values of the per-scan update mask written by stage 1 and read by stage 2.
+inline constexpr std::uint8_t kUpdateNone = 0;
+inline constexpr std::uint8_t kUpdateFree = 1;
+inline constexpr std::uint8_t kUpdateOccupied = 2;
+
+// Everything the kernels need from the config, converted once to integers.
+struct KernelParams {
+  int width = 0;
+  int height = 0;
+  LogOdds l_free = 0;      // log-odds added to a free cell (negative)
+  LogOdds l_occupied = 0;  // log-odds added to an occupied cell (positive)
+  LogOdds l_min = 0;       // clamp bounds of the map
+  LogOdds l_max = 0;
+  LogOdds t_low = 0;       // free if l <= t_low
+  LogOdds t_high = 0;      // weak free if l <= t_high (free when next to a t_low cell)
+  int opening_radius = 0;  // opening element is a square of side 2 * radius + 1 cells
+};
+
+// Converts probabilities to fixed-point log-odds (round to nearest) and thresholds (floor, so
+// that "p <= t" and "l <= T" agree on every representable l).
+KernelParams MakeKernelParams(const Config& config);
+LogOdds LogOddsFromProbability(double p);
+LogOdds LogOddsThreshold(double p);
+double ProbabilityFromLogOdds(LogOdds l);
+
+// Input of kernel stage 1 for one scan.
+struct RasterJob {
+  // Closed ring of the full-scan polygon: x0, y0, x1, y1, ... fixed point (kFixedBits).
+  const std::int32_t* vertices = nullptr;
+  int vertex_count = 0;
+  // Cells holding a kept echo, as row * width + col, all inside the map.
+  const std::int32_t* occupied = nullptr;
+  int occupied_count = 0;
+  // Rows of the update mask this scan rewrites; stage 2 reads the same rows.
+  int row_begin = 0;
+  int row_end = 0;
+};
+
+// Input of the conventional inverse sensor model (the paper's baseline) for one scan: one
+// Bresenham ray per kept echo from the sensor's cell to the echo's cell.
+struct RayJob {
+  std::int32_t origin_col = 0;  // the sensor's cell; may lie outside the map
+  std::int32_t origin_row = 0;
+  // End cells: col0, row0, col1, row1, ...; may lie outside the map.
+  const std::int32_t* ends = nullptr;
+  int ray_count = 0;
+  // Rows the rays can touch; stage 2 of this model reads the same rows.
+  int row_begin = 0;
+  int row_end = 0;
+};
+
+// The in-sight labels (paper IV.A), 1-based as in the paper; label 0 of this function is the
+// paper's label 1. Left column top to bottom, bottom row west to east, right column bottom to
+// top, top row east to west: counter-clockwise in the world frame.
+inline CellIndex BorderCell(int label0, int height, int width) {
+  const int l = label0 + 1;
+  if (l <= height) return {height - l, 0};
+  if (l <= height + width) return {0, l - height - 1};
+  if (l <= 2 * height + width) return {l - height - width - 1, width - 1};
+  return {height - 1, 2 * height + 2 * width - l};
+}
+inline int BorderLabelCount(int height, int width) { return 2 * height + 2 * width; }
+
+// C_Edge from the stop cells of the border rays (stop[l] = row * width + col of label l's stop
+// cell): each distinct stop cell once, in the order of the smallest label that stopped there.
+// Labels run upwards, so a cell's smallest label is the first to reach it. `seen` is a bitset
+// over the map's cells (cell i is bit i % 64 of word i / 64), all 0 on entry and again on
+// return; it is touched only at the stop cells. Both backends build C_Edge with it from the
+// stop cells their stage 4 wrote.
+void CollectEdges(const std::int32_t* stop, int labels, int width, std::uint64_t* seen,
+                  std::vector<CellIndex>* edges);
+
+// Rows [begin, end) of a map; empty when begin >= end. The backends keep one for each map
+// buffer, holding every row with a known (non-zero) cell, so that the map shift copies and
+// clears only those instead of the whole map: around a vehicle most of a large map is unknown.
+struct RowSpan {
+  int begin = 0;
+  int end = 0;
+
+  bool empty() const { return begin >= end; }
+  // The smallest span holding both.
+  RowSpan Hull(RowSpan other) const {
+    if (empty()) return other;
+    if (other.empty()) return *this;
+    return {std::min(begin, other.begin), std::max(end, other.end)};
+  }
+  // These rows and the `h` on either side, clipped to [0, height).
+  RowSpan Widened(int h, int height) const {
+    return empty() ? RowSpan{} : RowSpan{std::max(begin - h, 0), std::min(end + h, height)};
+  }
+  // Where these rows go in the map shift new(r) = old(r + dy), clipped to [0, height).
+  RowSpan Shifted(int dy, int height) const {
+    const RowSpan moved{std::max(begin - dy, 0), std::min(end - dy, height)};
+    return empty() || moved.empty() ? RowSpan{} : moved;
+  }
+};
+
+class Backend {
+ public:
+  explicit Backend(const KernelParams& params) : params_(params) {}
+  virtual ~Backend() = default;
+  Backend(const Backend&) = delete;
+  Backend& operator=(const Backend&) = delete;
+
+  virtual std::string name() const = 0;
+
+  // The threads a backend needs besides the calling one to drive its devices (the OpenCL
+  // backend split over several CPU devices: one per device but the first), and how long they
+  // keep polling after a stage (Crew). The estimator owns that crew, hands it over with
+  // UseCrew() and runs the clutter filter's parallel passes on it too, so that the process has
+  // one busy thread per core and the helpers are awake when a split stage starts. Without a
+  // crew, a backend runs every part on the calling thread.
+  struct CrewRequest {
+    int helpers = 0;
+    std::chrono::microseconds linger{0};
+    std::chrono::microseconds window{0};
+  };
+  virtual CrewRequest WantedCrew() const { return {}; }
+  // `crew` (not owned) outlives the backend or is replaced first; nullptr: none.
+  virtual void UseCrew(Crew* /*crew*/) {}
+
+  const KernelParams& params() const { return params_; }
+
+  // Kernel stage 1 (enhanced inverse sensor model). Rewrites the update mask on rows
+  // [row_begin, row_end): kUpdateFree where the cell centre is inside the polygon (even-odd
+  // rule; a centre exactly on an edge counts as left of it), kUpdateOccupied on the listed
+  // cells (occupied wins), kUpdateNone elsewhere.
+  virtual void Rasterize(const RasterJob& job) = 0;
+
+  // Kernel stage 2. On rows [row_begin, row_end): map += l_free / l_occupied where the update
+  // mask says so, clamped to [l_min, l_max].
+  virtual void Fuse(int row_begin, int row_end) = 0;
+
+  // Conventional model, stage 1: for every ray, each map cell on its Bresenham line before
+  // the end cell adds l_free to that cell's delta and the end cell adds l_occupied; a cell
+  // crossed by k rays gets k updates. Cells outside the map are skipped. The per-cell sums
+  // are order-independent, so every backend gets the same deltas.
+  virtual void CastRays(const RayJob& job) = 0;
+
+  // Conventional model, stage 2: on rows [row_begin, row_end), map = clamp(map + delta) and
+  // the delta is cleared for the next scan.
+  virtual void FuseRays(int row_begin, int row_end) = 0;
+
+  // Kernel stage 3. Whole map: strong = l <= t_low, weak = l <= t_high; free0 = strong, or
+  // weak with a strong 8-neighbour; free = opening of free0 by the square element (cells
+  // outside the map are not free).
+  virtual void Classify() = 0;
+
+  // Kernel stage 4. Casts a Bresenham ray from `vehicle` to every border cell (label order);
+  // each stops at its first not-free cell (the vehicle's own cell never stops it) or at the
+  // border cell. Writes C_Edge into `edges`: the distinct stop cells in the order of the
+  // smallest label that stopped there. `edges` must have capacity BorderLabelCount().
+  virtual void InSight(CellIndex vehicle, std::vector<CellIndex>* edges) = 0;
+
+  // Moves the map by whole cells: new(r, c) = old(r + dy, c + dx); cells with no old
+  // counterpart are unknown (0).
+  virtual void Shift(int dx, int dy) = 0;
+
+  // Sets every cell unknown.
+  virtual void Clear() = 0;
+
+  // Waits until every stage called so far has finished. Stages may run asynchronously (the
+  // OpenCL backend enqueues them); InSight() and the Read*() copies wait on their own. The host
+  // backend runs stages synchronously, so this does nothing there.
+  virtual void Finish() {}
+
+  // Copies between the backend's buffers and host memory (width * height elements). For
+  // views, snapshots and tests; on the per-scan path only ReadFree(), for polygon.shape inside.
+  virtual void ReadLogOdds(LogOdds* dst) = 0;
+  virtual void WriteLogOdds(const LogOdds* src) = 0;
+  virtual void ReadUpdateMask(std::uint8_t* dst) = 0;
+  virtual void WriteUpdateMask(const std::uint8_t* src) = 0;
+  virtual void ReadFree(std::uint8_t* dst) = 0;
+  virtual void ReadRayDelta(std::int32_t* dst) = 0;
+  virtual void WriteFree(const std::uint8_t* src) = 0;
+
+  // The map and the free mask in host memory when the backend keeps them there, else null.
+  virtual const LogOdds* HostLogOdds() const { return nullptr; }
+  virtual const std::uint8_t* HostFree() const { return nullptr; }
+
+  // Replaces the kernel-stage wall times in `times` by the backend's own measurement of the
+  // last stages (OpenCL event profiling). Returns false when it has none.
+  virtual bool KernelTimes(StageTimes* /*times*/) const { return false; }
+
+ protected:
+  KernelParams params_;
+};
+
+}  // namespace freespace

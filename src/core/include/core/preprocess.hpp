@@ -1,0 +1,73 @@
+// Preprocessing of one full scan on the host (DESIGN.md pipeline step 1): input validation,
+// no-echo marking, DBSCAN clutter filter, virtual points for no-echo beams, and the
+// projection of the full-scan polygon and the kept echoes into the map for kernel stage 1.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/backend.hpp"
+#include "core/dbscan.hpp"
+#include "freespace/config.hpp"
+#include "freespace/result.hpp"
+#include "freespace/scan.hpp"
+
+namespace freespace {
+
+// One vertex of the full-scan polygon: the nearest kept echo of any layer in an angular bin,
+// or a virtual point there (paper II: range min of the nearest real returns before and after).
+struct Beam {
+  float angle = 0.0f;  // radians, sensor frame
+  float range = 0.0f;  // metres
+  float x = 0.0f;      // the vertex in the sensor frame, metres
+  float y = 0.0f;
+  bool is_virtual = false;
+};
+
+class Preprocessor {
+ public:
+  explicit Preprocessor(const Config& config);
+
+  // Validates and filters the scan's points (sensor frame) and builds the polygon's beams.
+  // Fills the point counters of `stats`. Returns false when the scan has no kept echo, in
+  // which case it makes no sensor update.
+  bool Run(const Scan& scan, ScanStats* stats);
+
+  // The clutter filter's parallel passes on `crew` (Backend::HostCrew); nullptr: on TBB.
+  void UseCrew(Crew* crew) { clutter_.UseCrew(crew); }
+
+  // Projects the beams and kept echoes into the map: sensor at `sensor_cells` (map cells,
+  // fractional) with heading `yaw`. Fills `job` with pointers into this object's buffers.
+  void Project(const Vec2& sensor_cells, double yaw, int width, int height, RasterJob* job);
+
+  // The conventional model's rays: from the sensor's cell to each kept echo's cell.
+  void ProjectRays(const Vec2& sensor_cells, double yaw, int width, int height, RayJob* job);
+
+  const std::vector<Beam>& beams() const { return beams_; }
+  // Echoes that survived the clutter filter (sensor frame).
+  const std::vector<EchoPoint>& kept() const { return kept_; }
+  int bins() const { return bins_; }
+
+ private:
+  SensorConfig sensor_;
+  double resolution_m_;
+  double min_angle_;  // radians
+  double bin_width_;  // radians
+  int bins_;
+  ClutterFilter clutter_;
+
+  std::vector<EchoPoint> echoes_;
+  std::vector<std::uint8_t> keep_;
+  std::vector<EchoPoint> kept_;
+  std::vector<std::uint8_t> bin_has_beam_;
+  std::vector<float> bin_range_;        // nearest kept echo, +inf when none
+  std::vector<std::int32_t> bin_echo_;  // index into kept_ of the nearest echo
+  std::vector<double> bin_cos_;         // cos and sin of each bin's centre angle
+  std::vector<double> bin_sin_;
+  std::vector<Beam> beams_;
+  std::vector<std::int32_t> vertices_;
+  std::vector<std::int32_t> occupied_;
+  std::vector<std::int32_t> ray_ends_;
+};
+
+}  // namespace freespace

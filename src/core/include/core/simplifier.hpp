@@ -1,0 +1,50 @@
+// The free-space polygon (paper IV.B): C_Edge cell centres simplified by Douglas-Peucker with
+// the paper's extra stop condition, at most N vertices. The farthest-deviating vertex is
+// always split first, so a capped result keeps the most important vertices.
+#pragma once
+
+#include <vector>
+
+#include "freespace/types.hpp"
+
+namespace freespace {
+
+class PolygonSimplifier {
+ public:
+  // max_vertices: N (>= 3); epsilon: tolerance in the units of the ring (cells).
+  PolygonSimplifier(int max_vertices, double epsilon);
+
+  // Simplifies the closed, counter-clockwise `ring`. Writes the indices of the kept vertices
+  // (ring order) into `kept`. First splits edges until `inside` (the vehicle) is left of every
+  // edge, then splits the farthest-deviating vertex while its deviation exceeds epsilon and
+  // fewer than N vertices are kept; keeps at least three vertices when the ring has them.
+  // Returns the largest distance from a dropped vertex to the result's edge that replaced it.
+  double Simplify(const std::vector<Vec2>& ring, const Vec2& inside, std::vector<int>* kept);
+
+ private:
+  struct Segment {
+    int from = 0;    // ring index of the first vertex
+    int length = 0;  // steps to the last vertex (wrapping around the ring)
+    int worst = -1;  // ring index of the farthest vertex strictly inside, -1 when none
+    double deviation = 0.0;
+  };
+  Segment Measure(const std::vector<Vec2>& ring, int from, int length) const;
+  // Replaces segment s by two, meeting at ring vertex `vertex`.
+  void Split(const std::vector<Vec2>& ring, int s, int vertex);
+  // A segment with interior vertices that does not pass `inside` on its left, or -1.
+  int ContainmentSplit(const std::vector<Vec2>& ring, const Vec2& inside) const;
+  // The interior vertex of segment s that leaves `inside` farthest left of both halves.
+  int Bisector(const std::vector<Vec2>& ring, int s, const Vec2& inside) const;
+
+  int max_vertices_;
+  double epsilon_;
+  std::vector<Segment> segments_;
+};
+
+// Even-odd point-in-polygon test; a point on the boundary may count either way.
+bool PointInPolygon(const std::vector<Vec2>& polygon, const Vec2& p);
+
+// Distance from p to the segment [a, b].
+double DistanceToSegment(const Vec2& p, const Vec2& a, const Vec2& b);
+
+}  // namespace freespace

@@ -1,0 +1,59 @@
+// Kernel parameters from the config (fixed-point log-odds and thresholds), and C_Edge from the
+// stop cells of the border rays, shared by both backends.
+#include <algorithm>
+#include <cmath>
+
+#include "core/backend.hpp"
+
+namespace freespace {
+
+LogOdds LogOddsFromProbability(double p) {
+  const double l = std::log(p / (1.0 - p)) * kLogOddsScale;
+  return LogOdds(std::clamp<long>(std::lround(l), -32767, 32767));
+}
+
+LogOdds LogOddsThreshold(double p) {
+  const double l = std::log(p / (1.0 - p)) * kLogOddsScale;
+  return LogOdds(std::clamp<long>(long(std::floor(l)), -32767, 32767));
+}
+
+double ProbabilityFromLogOdds(LogOdds l) {
+  return 1.0 / (1.0 + std::exp(-double(l) / kLogOddsScale));
+}
+
+KernelParams MakeKernelParams(const Config& config) {
+  KernelParams p;
+  p.width = config.map.width_cells;
+  p.height = config.map.height_cells;
+  p.l_free = LogOddsFromProbability(config.sensor_model.p_free);
+  p.l_occupied = LogOddsFromProbability(config.sensor_model.p_occupied);
+  p.l_min = LogOddsFromProbability(config.sensor_model.p_min);
+  p.l_max = LogOddsFromProbability(config.sensor_model.p_max);
+  p.t_low = LogOddsThreshold(config.classify.t_low);
+  p.t_high = LogOddsThreshold(config.classify.t_high);
+  // An odd square about the vehicle's width: side 2h + 1 closest to width / resolution.
+  const double side = config.classify.vehicle_width_m / config.map.resolution_m;
+  p.opening_radius = int(std::max(0L, std::lround((side - 1.0) / 2.0)));
+  return p;
+}
+
+void CollectEdges(const std::int32_t* stop, int labels, int width, std::uint64_t* seen,
+                  std::vector<CellIndex>* edges) {
+  edges->clear();
+  std::int32_t last = -1;
+  for (int l = 0; l < labels; ++l) {
+    const std::int32_t s = stop[l];
+    // Neighbouring rays often stop at the same cell: only a new cell needs the bitset.
+    if (s == last) continue;
+    last = s;
+    std::uint64_t& word = seen[s >> 6];
+    const std::uint64_t bit = std::uint64_t{1} << (s & 63);
+    if (word & bit) continue;
+    edges->push_back({s / width, s % width});
+    word |= bit;
+  }
+  // Every bit set above belongs to an edge cell, so clearing their words clears them all.
+  for (const CellIndex& e : *edges) seen[(e.row * width + e.col) >> 6] = 0;
+}
+
+}  // namespace freespace

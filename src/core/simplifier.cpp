@@ -1,0 +1,164 @@
+// Capped Douglas-Peucker on a closed ring. The ring is first cut at vertex 0 and the vertex
+// farthest from it; then the segment whose farthest vertex deviates most is split, one vertex
+// at a time, until every dropped vertex is within epsilon (the classic stop) or N vertices are
+// kept (the paper's added stop). Segments live in a fixed array: no allocation per call.
+#include "core/simplifier.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace freespace {
+
+double DistanceToSegment(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double len2 = ab.squaredNorm();
+  if (len2 == 0.0) return (p - a).norm();
+  const double t = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
+  return (p - (a + t * ab)).norm();
+}
+
+bool PointInPolygon(const std::vector<Vec2>& polygon, const Vec2& p) {
+  bool inside = false;
+  const std::size_t n = polygon.size();
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Vec2& a = polygon[i];
+    const Vec2& b = polygon[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) &&
+        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+PolygonSimplifier::PolygonSimplifier(int max_vertices, double epsilon)
+    : max_vertices_(max_vertices), epsilon_(epsilon) {
+  segments_.reserve(std::max(max_vertices, 3) + 1);
+}
+
+PolygonSimplifier::Segment PolygonSimplifier::Measure(const std::vector<Vec2>& ring, int from,
+                                                      int length) const {
+  const int n = int(ring.size());
+  Segment s;
+  s.from = from;
+  s.length = length;
+  const Vec2& a = ring[from];
+  const Vec2& b = ring[(from + length) % n];
+  for (int k = 1; k < length; ++k) {
+    const int i = (from + k) % n;
+    const double d = DistanceToSegment(ring[i], a, b);
+    if (d > s.deviation || s.worst < 0) {
+      s.deviation = d;
+      s.worst = i;
+    }
+  }
+  return s;
+}
+
+void PolygonSimplifier::Split(const std::vector<Vec2>& ring, int s, int vertex) {
+  const int n = int(ring.size());
+  const Segment old = segments_[s];
+  const int first = (vertex - old.from + n) % n;
+  segments_[s] = Measure(ring, old.from, first);
+  segments_.insert(segments_.begin() + s + 1, Measure(ring, vertex, old.length - first));
+}
+
+namespace {
+
+// Signed distance of p from the line a -> b: positive when p is on its left.
+double LeftOf(const Vec2& a, const Vec2& b, const Vec2& p) {
+  const Vec2 ab = b - a;
+  const double len = ab.norm();
+  if (len == 0.0) return -(p - a).norm();
+  return (ab.x() * (p.y() - a.y()) - ab.y() * (p.x() - a.x())) / len;
+}
+
+}  // namespace
+
+int PolygonSimplifier::ContainmentSplit(const std::vector<Vec2>& ring, const Vec2& inside) const {
+  const int n = int(ring.size());
+  for (int s = 0; s < int(segments_.size()); ++s) {
+    const Segment& g = segments_[s];
+    if (g.worst < 0) continue;
+    const Vec2& a = ring[g.from];
+    const Vec2& b = ring[(g.from + g.length) % n];
+    if (LeftOf(a, b, inside) > 0.0) continue;
+    return s;
+  }
+  return -1;
+}
+
+int PolygonSimplifier::Bisector(const std::vector<Vec2>& ring, int s, const Vec2& inside) const {
+  const int n = int(ring.size());
+  const Segment& g = segments_[s];
+  const Vec2& a = ring[g.from];
+  const Vec2& b = ring[(g.from + g.length) % n];
+  int best = -1;
+  double best_score = 0.0;
+  for (int k = 1; k < g.length; ++k) {
+    const int i = (g.from + k) % n;
+    const double score = std::min(LeftOf(a, ring[i], inside), LeftOf(ring[i], b, inside));
+    if (best < 0 || score > best_score) {
+      best = i;
+      best_score = score;
+    }
+  }
+  return best;
+}
+
+double PolygonSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& inside,
+                                   std::vector<int>* kept) {
+  kept->clear();
+  const int n = int(ring.size());
+  if (n <= 2) {
+    for (int i = 0; i < n; ++i) kept->push_back(i);
+    return 0.0;
+  }
+  int far = 1;
+  for (int i = 2; i < n; ++i) {
+    if ((ring[i] - ring[0]).squaredNorm() > (ring[far] - ring[0]).squaredNorm()) far = i;
+  }
+  segments_.clear();
+  segments_.push_back(Measure(ring, 0, far));
+  segments_.push_back(Measure(ring, far, n - far));
+  int count = 2;
+
+  // The vehicle first: C_Edge is ordered by ray angle around the vehicle, so the polygon of any
+  // subset of it contains the vehicle when the vehicle is left of every edge; and splitting an
+  // edge that has it on its left keeps it there. So make every edge pass it on the left, with
+  // the vertex that best bisects the edge, before spending vertices on shape.
+  auto contain = [&] {
+    while (count < max_vertices_) {
+      const int s = ContainmentSplit(ring, inside);
+      if (s < 0) break;
+      Split(ring, s, Bisector(ring, s, inside));
+      ++count;
+    }
+  };
+  contain();
+
+  // Douglas-Peucker, farthest deviation first, with the paper's stop at N vertices.
+  while (count < max_vertices_) {
+    int s = -1;
+    for (int k = 0; k < int(segments_.size()); ++k) {
+      if (segments_[k].worst >= 0 && (s < 0 || segments_[k].deviation > segments_[s].deviation)) {
+        s = k;
+      }
+    }
+    if (s < 0) break;
+    if (segments_[s].deviation <= epsilon_ && count >= 3) break;
+    Split(ring, s, segments_[s].worst);
+    ++count;
+  }
+  // Rings that are not star-shaped around the vehicle can lose it again; repair if N allows.
+  contain();
+
+  double error = 0.0;
+  for (const Segment& g : segments_) {
+    kept->push_back(g.from);
+    if (g.worst >= 0) error = std::max(error, g.deviation);
+  }
+  return error;
+}
+
+}  // namespace freespace

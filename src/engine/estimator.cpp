@@ -1,0 +1,289 @@
+// The Estimator: the pipeline of DESIGN.md for one scan, in order: validate, preprocess,
+// align (vehicle on a circle, integer map shift), the sensor model and fusion (kernel stages 1
+// and 2), classification and the in-sight scan (stages 3 and 4) on the backend, then the
+// polygon in world coordinates.
+#include "freespace/estimator.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "core/simplifier.hpp"
+#include "engine/backend_factory.hpp"
+#include "estimator_impl.hpp"
+
+namespace freespace {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Micros(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::micro>(b - a).count();
+}
+
+bool Finite(const Pose2D& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.yaw);
+}
+
+// The sensor's world pose: the odometry pose composed with the mount.
+Pose2D SensorPose(const Pose2D& pose, const SensorConfig& s) {
+  const double cy = std::cos(pose.yaw), sy = std::sin(pose.yaw);
+  Pose2D sensor;
+  sensor.x = pose.x + cy * s.mount_x_m - sy * s.mount_y_m;
+  sensor.y = pose.y + sy * s.mount_x_m + cy * s.mount_y_m;
+  sensor.yaw = WrapAngle(pose.yaw + s.mount_yaw_deg * M_PI / 180.0);
+  return sensor;
+}
+
+Config Validated(Config config) {
+  config.Validate();
+  return config;
+}
+
+}  // namespace
+
+double MapView::Probability(int row, int col) const {
+  return ProbabilityFromLogOdds(log_odds[std::size_t(row) * width + col]);
+}
+
+Estimator::Impl::Impl(const Config& config) : config_(Validated(config)), circle_(config_) {
+  backend_ = CreateBackend(config_);
+  preprocess_ = std::make_unique<Preprocessor>(config_);
+  const Backend::CrewRequest crew = backend_->WantedCrew();
+  if (crew.helpers > 0) {
+    crew_ = std::make_unique<Crew>(crew.helpers, crew.linger, crew.window);
+    backend_->UseCrew(crew_.get());
+    preprocess_->UseCrew(crew_.get());
+  }
+  aligner_ = MakeMapAligner(config_);
+  sensor_model_ = MakeSensorModel(config_);
+  polygon_ = MakePolygonExtractor(config_, *backend_);
+  const int labels = BorderLabelCount(config_.map.height_cells, config_.map.width_cells);
+  result_.polygon.reserve(config_.polygon.max_vertices);
+  result_.polygon_cells.reserve(config_.polygon.max_vertices);
+  result_.edge_cells.reserve(labels);
+  result_.message.reserve(256);
+  backend_->Clear();
+}
+
+void Estimator::Impl::Reset() {
+  circle_.Reset();
+  backend_->Clear();
+}
+
+void Estimator::Impl::Begin(const Scan& scan) {
+  Result& r = result_;
+  r.scan_index = scans_++;
+  r.timestamp_s = scan.timestamp_s;
+  r.status = ScanStatus::kOk;
+  r.reject_reason = RejectReason::kNone;
+  r.message.clear();
+  r.map_reset = false;
+  r.timestamp_jitter = false;
+  r.pose = scan.pose;
+  r.times = StageTimes{};
+  r.stats = ScanStats{};
+  r.polygon.clear();
+  r.polygon_cells.clear();
+  r.edge_cells.clear();
+  r.simplification_error_m = 0.0;
+  r.polygon_contains_vehicle = false;
+}
+
+const Result& Estimator::Impl::Reject(RejectReason reason, const char* text) {
+  result_.status = ScanStatus::kRejected;
+  result_.reject_reason = reason;
+  result_.message.assign(text);
+  return result_;
+}
+
+bool Estimator::Impl::CheckInput(const Scan& scan) {
+  char text[200];
+  if (!std::isfinite(scan.timestamp_s)) {
+    std::snprintf(text, sizeof text, "timestamp %g is not finite", scan.timestamp_s);
+    Reject(RejectReason::kTimestampNotFinite, text);
+    return false;
+  }
+  if (!Finite(scan.pose)) {
+    std::snprintf(text, sizeof text, "pose (%g, %g, %g) is not finite", scan.pose.x, scan.pose.y,
+                  scan.pose.yaw);
+    Reject(RejectReason::kPoseNotFinite, text);
+    return false;
+  }
+  return true;
+}
+
+// Vehicle on a circle, then the aligner moves the map (an integer shift, or for the baseline a
+// rotation and sub-pixel shift of a vehicle-centred map).
+bool Estimator::Impl::Align(const Scan& scan) {
+  Result& r = result_;
+  char text[200];
+  const double previous_t = circle_.last_timestamp();
+  const AlignStep step = circle_.Align(scan.timestamp_s, r.sensor_pose);
+  if (!step.accepted) {
+    if (step.reason == RejectReason::kTimestampNotIncreasing) {
+      std::snprintf(text, sizeof text,
+                    "timestamp %.6f s is %.3f s before the previous scan's %.6f s (more than "
+                    "alignment.time_jitter_s %.3f s)",
+                    scan.timestamp_s, previous_t - scan.timestamp_s, previous_t,
+                    config_.alignment.time_jitter_s);
+    } else {
+      std::snprintf(text, sizeof text,
+                    "pose jumped %.1f m in %.3f s (limit %.0f m/s + %.1f m); jump %d of %d "
+                    "before the map restarts",
+                    std::hypot(r.sensor_pose.x - last_sensor_.x, r.sensor_pose.y - last_sensor_.y),
+                    scan.timestamp_s - previous_t, config_.alignment.max_speed_mps,
+                    config_.alignment.jump_slack_m, circle_.consecutive_jumps(),
+                    config_.alignment.reset_after_jumps);
+    }
+    Reject(step.reason, text);
+    return false;
+  }
+  if (step.timestamp_jitter) {
+    r.timestamp_jitter = true;
+    std::snprintf(text, sizeof text,
+                  "timestamp %.6f s is not after the previous scan's %.6f s: clock jitter, used "
+                  "without a speed sample",
+                  scan.timestamp_s, previous_t);
+    r.message.assign(text);
+  }
+  const Pose2D before = last_sensor_;
+  last_sensor_ = r.sensor_pose;
+  if (step.reset) {
+    backend_->Clear();
+    r.map_reset = true;
+  }
+  r.filtered_speed_mps = step.filtered_speed_mps;
+  aligner_->Apply(step, circle_, before, r.sensor_pose, backend_.get(), &r);
+  const int width = config_.map.width_cells, height = config_.map.height_cells;
+  r.vehicle_cell = {std::clamp(int(std::floor(r.vehicle_cells.y())), 0, height - 1),
+                    std::clamp(int(std::floor(r.vehicle_cells.x())), 0, width - 1)};
+  return true;
+}
+
+void Estimator::Impl::UpdateMap(bool has_update, const Scan& scan) {
+  Result& r = result_;
+  if (has_update) {
+    sensor_model_->Update(preprocess_.get(), r.vehicle_cells, r.yaw, backend_.get(), &r.times);
+  } else {
+    r.status = ScanStatus::kNoSensorUpdate;
+    r.message.assign(scan.points.empty() ? "empty scan: no sensor update"
+                                         : "no usable echo: no sensor update");
+  }
+}
+
+// Kernel stages 3 and 4: classification + opening, in-sight edges.
+void Estimator::Impl::ClassifyAndScan() {
+  const Clock::time_point start = Clock::now();
+  backend_->Classify();
+  const Clock::time_point classified = Clock::now();
+  backend_->InSight(result_.vehicle_cell, &result_.edge_cells);
+  result_.times.classify_us = Micros(start, classified);
+  result_.times.insight_us = Micros(classified, Clock::now());
+}
+
+// The polygon in map cells, then in world metres.
+void Estimator::Impl::ExtractPolygon() {
+  Result& r = result_;
+  const double error_cells =
+      polygon_->Extract(r.edge_cells, r.vehicle_cells, backend_.get(), &r.polygon_cells);
+  const double res = config_.map.resolution_m;
+  const double mc = std::cos(r.map_yaw), ms = std::sin(r.map_yaw);
+  for (const Vec2& v : r.polygon_cells) {
+    r.polygon.push_back(r.origin + Vec2(mc * v.x() - ms * v.y(), ms * v.x() + mc * v.y()) * res);
+  }
+  r.simplification_error_m = error_cells * res;
+  r.polygon_contains_vehicle = PointInPolygon(r.polygon_cells, r.vehicle_cells);
+}
+
+const Result& Estimator::Impl::Process(const Scan& scan) {
+  const Clock::time_point t_begin = Clock::now();
+  Result& r = result_;
+  Begin(scan);
+  const auto finish = [&]() -> const Result& {
+    r.times.total_us = Micros(t_begin, Clock::now());
+    return r;
+  };
+  if (!CheckInput(scan)) return finish();
+  r.sensor_pose = SensorPose(scan.pose, config_.sensor);
+
+  // Preprocess (sensor frame): validation, DBSCAN, virtual points.
+  const bool has_update = preprocess_->Run(scan, &r.stats);
+  const Clock::time_point t_pre = Clock::now();
+  r.times.preprocess_us = Micros(t_begin, t_pre);
+  if (!Align(scan)) return finish();
+  const Clock::time_point t_align = Clock::now();
+  r.times.align_us = Micros(t_pre, t_align);
+
+  UpdateMap(has_update, scan);
+  ClassifyAndScan();
+  const Clock::time_point t_polygon = Clock::now();
+  ExtractPolygon();
+  const Clock::time_point t_end = Clock::now();
+  r.times.polygon_us = Micros(t_polygon, t_end);
+  backend_->KernelTimes(&r.times);
+  r.times.total_us = Micros(t_begin, t_end);
+  return r;
+}
+
+MapView Estimator::Impl::map() const {
+  MapView v;
+  v.width = config_.map.width_cells;
+  v.height = config_.map.height_cells;
+  v.resolution_m = config_.map.resolution_m;
+  v.origin = result_.origin;
+  v.map_yaw = result_.map_yaw;
+  const std::size_t cells = std::size_t(v.width) * v.height;
+  v.log_odds = backend_->HostLogOdds();
+  if (v.log_odds == nullptr) {
+    map_mirror_.resize(cells);
+    backend_->ReadLogOdds(map_mirror_.data());
+    v.log_odds = map_mirror_.data();
+  }
+  v.free = backend_->HostFree();
+  if (v.free == nullptr) {
+    free_mirror_.resize(cells);
+    backend_->ReadFree(free_mirror_.data());
+    v.free = free_mirror_.data();
+  }
+  return v;
+}
+
+Estimator::Estimator(const Config& config) : impl_(std::make_unique<Impl>(config)) {}
+Estimator::~Estimator() = default;
+const Result& Estimator::Process(const Scan& scan) { return impl_->Process(scan); }
+void Estimator::Reset() { impl_->Reset(); }
+MapView Estimator::map() const { return impl_->map(); }
+const Config& Estimator::config() const { return impl_->config(); }
+std::string Estimator::backend_name() const { return impl_->backend().name(); }
+
+const char* ToString(ScanStatus status) {
+  switch (status) {
+    case ScanStatus::kOk:
+      return "ok";
+    case ScanStatus::kNoSensorUpdate:
+      return "no_sensor_update";
+    case ScanStatus::kRejected:
+      return "rejected";
+  }
+  return "?";
+}
+
+const char* ToString(RejectReason reason) {
+  switch (reason) {
+    case RejectReason::kNone:
+      return "none";
+    case RejectReason::kTimestampNotFinite:
+      return "timestamp_not_finite";
+    case RejectReason::kTimestampNotIncreasing:
+      return "timestamp_not_increasing";
+    case RejectReason::kPoseNotFinite:
+      return "pose_not_finite";
+    case RejectReason::kPoseJump:
+      return "pose_jump";
+  }
+  return "?";
+}
+
+}  // namespace freespace

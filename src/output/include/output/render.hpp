@@ -1,0 +1,29 @@
+// PNG snapshots of the estimator's state: the map in grey (white free, black occupied, grey
+// unknown), the free-space polygon, the vehicle and its position circle, and optionally a
+// truth outline. North is up.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "freespace/result.hpp"
+
+namespace freespace {
+
+struct SnapshotOverlay {
+  // World polylines (metres) drawn in green, e.g. the simulator's true obstacle outlines.
+  const std::vector<std::vector<Vec2>>* truth = nullptr;
+  std::string caption;
+};
+
+// Pixels per cell so that the image is about 900 pixels wide (at least 1).
+int SnapshotScale(int width, int height);
+
+cv::Mat RenderSnapshot(const MapView& map, const Result& result,
+                       const SnapshotOverlay& overlay = {});
+
+// Writes `image` as PNG; throws InputError when it cannot.
+void WritePng(const std::string& path, const cv::Mat& image);
+
+}  // namespace freespace
