@@ -8,6 +8,9 @@
 // With BackendConfig::opencl_devices = n > 1 (CPU devices only) the row pass, classification and
 // in-sight scan of each scan are split into parts over n devices of one context, device d
 // driven by thread d of a Crew (the caller is thread 0); every other command runs on the first.
+// Each stage's host side lives in the file with its kernel file's stem (src/opencl/rasterize.cpp
+// for kernels/rasterize.cl, ...), beside the named argument indices of its kernels; backend.cpp
+// builds and binds everything once, commands.cpp holds what every stage enqueues with.
 #pragma once
 
 #include <array>
@@ -89,9 +92,38 @@ class OpenClBackend final : public Backend {
   enum Stage { kRasterStage, kFuseStage, kClassifyStage, kInSightStage, kStageCount };
 
   std::size_t cells() const { return std::size_t(params_.width) * params_.height; }
+  std::size_t labels() const {
+    return std::size_t(BorderLabelCount(params_.height, params_.width));
+  }
   int BitWords() const { return (params_.width + 63) / 64; }  // bitset words per row
+
+  // The steps of construction (backend.cpp), in the constructor's order. ChooseWorkShape() sets
+  // bands_, vectors_per_item_, row_items_ and raster_group_ and returns the device's work-group
+  // limits, which ChooseWorkSizes() needs once the kernels exist.
+  struct DeviceLimits {
+    std::size_t max_group = 1;             // CL_DEVICE_MAX_WORK_GROUP_SIZE
+    std::size_t max_items[3] = {1, 1, 1};  // CL_DEVICE_MAX_WORK_ITEM_SIZES
+  };
+  DeviceLimits ChooseWorkShape(WorkShape shape);
+  void BuildKernels();
+  void MakeLanes();  // the split over devices: a queue and the kernels' copies per device
+  void AllocateBuffers();
+  // The buffer arguments, set once (the job buffer's whenever it grows: Bind*Job()), in the file
+  // of each stage beside the kernel's named argument indices.
+  void BindRasterizeArgs();  // rasterize.cpp
+  void BindRasterizeJob();   // rasterize.cpp
+  void BindFuseArgs();       // fuse.cpp
+  void BindClassifyArgs();   // classify.cpp
+  void BindInSightArgs();    // insight.cpp
+  void BindShiftArgs();      // shift.cpp
+  void BindRaysArgs();       // rays.cpp
+  void BindRaysJob();        // rays.cpp
+  void ChooseWorkSizes(const DeviceLimits& limits);
   opencl::Kernel MakeKernel(const char* name) const;
   std::size_t LocalSize(cl_kernel kernel, std::size_t preferred) const;
+  void GrowJob(std::size_t ints);
+
+  // Commands (commands.cpp).
   void Launch(cl_kernel kernel, cl_uint dims, const std::size_t* global, const std::size_t* local,
               cl_event* event);
   void Launch(cl_command_queue queue, cl_kernel kernel, cl_uint dims, const std::size_t* global,
@@ -101,7 +133,6 @@ class OpenClBackend final : public Backend {
   // Writes the first `ints` ints of the staging area into the job buffer, not blocking; the
   // write's event becomes `*event` (and upload_done_).
   void Upload(std::size_t ints, opencl::Event* event);
-  void GrowJob(std::size_t ints);
   void Fill(cl_mem buffer, std::size_t bytes);
   // Copies the map's cells of a padded buffer of `element`-byte cells to or from host memory
   // (width * height elements, row-major).
@@ -117,10 +148,9 @@ class OpenClBackend final : public Backend {
   void WaitForResult(cl_event event);
   // Enqueues the deferred shift and row pass on their own.
   void Flush();
-  // Enqueues a row-pass kernel over rows [first, end) with a map shift of (dx, dy). Split over
-  // devices, `*event` is the first part's (and split_parts_ holds every part's).
-  void RowPass(cl_kernel kernel, int dx, int dy, int first, int end, cl_event* event);
-  // Split over devices: sets an argument of `kernel` and of its copies for the other devices.
+
+  // Split over devices (backend_internal.hpp, commands.cpp): sets an argument of `kernel` and of
+  // its copies for the other devices.
   template <typename T>
   void SetArgAll(cl_kernel kernel, cl_uint index, const T& value);
   // The copy of `kernel` (a kernel of device 0 that splits) for device d.
@@ -133,9 +163,16 @@ class OpenClBackend final : public Backend {
   cl_command_queue QueueOf(int d) const {
     return d == 0 ? queue_.get() : lanes_[d - 1].queue.get();
   }
-  void FlushShift();
+
+  // The row pass of stage 1 (rasterize.cpp). RowPass() enqueues a row-pass kernel over rows
+  // [first, end) with a map shift of (dx, dy); split over devices, `*event` is the first part's
+  // (and split_parts_ holds every part's). FlushRows() runs the deferred row pass on its own,
+  // FlushRowsWithFusion() with the fusion of its rows (and the deferred shift) folded in.
+  void RowPass(cl_kernel kernel, int dx, int dy, int first, int end, cl_event* event);
   void FlushRows();
-  // strong_ / weak_ [current_] were just computed from the whole map.
+  void FlushRowsWithFusion();
+  void FlushShift();  // shift.cpp
+  // strong_ / weak_ [current_] were just computed from the whole map (classify.cpp).
   void LevelsWritten();
 
   std::shared_ptr<opencl::DeviceContext> device_;
@@ -198,7 +235,7 @@ class OpenClBackend final : public Backend {
   bool unknown_off_levels_ = false;
   // Every row of map_[k] with a non-zero cell lies in known_[k], and every row of strong_[k] /
   // weak_[k] with a set bit in level_rows_[k]. With unknown_off_levels_ the row pass that
-  // shifts runs over the rows that can differ from unknown only (RowSpan, src/backend.hpp).
+  // shifts runs over the rows that can differ from unknown only (RowSpan, core/backend.hpp).
   RowSpan known_[2];
   RowSpan level_rows_[2];
   // Every row of free_ with a set bit.
