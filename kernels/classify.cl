@@ -21,7 +21,7 @@
 // before the barrier (the host keeps each row's work-items in one work-group). Global size
 // (bit row items, HEIGHT rounded up).
 //
-// In the CPU work shape (src/opencl_backend.cpp), one kernel, classify_bands: one work-item per
+// In the CPU work shape (src/opencl/backend.cpp), one kernel, classify_bands: one work-item per
 // band of rows runs all the passes down its band, keeping only the rows a column window still
 // needs (in rings of 2 OPENING_RADIUS + 1 rows), and recomputes the 2 OPENING_RADIUS rows beyond
 // each end of its band that the column windows reach. Every row goes through the same functions
@@ -29,6 +29,10 @@
 // intermediates.
 //
 // Build options: T_LOW, T_HIGH, OPENING_RADIUS (and those of common.cl).
+//
+// Host side: src/opencl/classify.cpp; its classify_levels_arg, classify_hysteresis_erode_rows_arg,
+// classify_erode_cols_dilate_rows_arg, classify_dilate_cols_arg and classify_bands_arg number the
+// arguments of the kernels below: change both together.
 
 // Bits of the last word of a row that lie inside the map.
 #define CLASSIFY_LAST_WORD_BITS ((WIDTH % 64) ? (~0UL >> (64 - WIDTH % 64)) : ~0UL)

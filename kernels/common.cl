@@ -1,6 +1,6 @@
 // Definitions shared by every kernel file. The program is this file followed by the stage files
 // (rasterize.cl, fuse.cl, classify.cl, insight.cl, shift.cl, rays.cl), built once per map size
-// and parameter set; see src/opencl_backend.cpp for the build options.
+// and parameter set; see src/opencl/backend.cpp for the build options.
 //
 // Every per-cell buffer (map, update mask, ray deltas) uses one padded layout: PAD_Y zero rows
 // above and below the map, PAD_X zero columns left of it and at least max(OPENING_RADIUS, 1)

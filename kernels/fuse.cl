@@ -4,6 +4,9 @@
 //
 // Build options: L_FREE, L_OCCUPIED, L_MIN, L_MAX, UPDATE_FREE, UPDATE_OCCUPIED (and those of
 // common.cl). Global size (row items, row_end - row_begin rounded up).
+//
+// Host side: src/opencl/fuse.cpp; its fuse_arg numbers the arguments of the kernel below: change
+// both together.
 
 __kernel void fuse(__global short* map, __global const uchar* update, int row_begin, int row_end) {
   const int r = row_begin + (int)get_global_id(1);

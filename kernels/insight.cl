@@ -2,11 +2,11 @@
 // Edges Detection"). Mirrors host/insight.cpp.
 //
 // insight_cast runs one work-item per border label (2 HEIGHT + 2 WIDTH rays, labels in the
-// order of BorderCell() in src/backend.hpp): a Bresenham ray from the vehicle cell stops at its
+// order of BorderCell() in core/backend.hpp): a Bresenham ray from the vehicle cell stops at its
 // first not-free cell (the vehicle's own cell never stops it) or at the border cell, and the
 // stop cell (row * WIDTH + col) goes to stop[label]. C_Edge, the distinct stop cells ordered by
 // their smallest label, is a few thousand steps of bookkeeping that the host does on the stop
-// cells it reads back (src/opencl_backend.cpp), as the host backend does.
+// cells it reads back (src/opencl/insight.cpp), as the host backend does.
 //
 // insight_claim is the same scan split over several CPU devices (BackendConfig::opencl_devices):
 // one work-item per device claims chunks of consecutive labels from a counter the devices share,
@@ -20,6 +20,9 @@
 // (one row's part of the ray) at a time, 64 cells a bitset word.
 //
 // Build options: those of common.cl. The free mask is a bitset (common.cl).
+//
+// Host side: src/opencl/insight.cpp; its insight_cast_arg and insight_claim_arg number the
+// arguments of the kernels below: change both together.
 
 #define INSIGHT_LABELS (2 * HEIGHT + 2 * WIDTH)
 

@@ -31,6 +31,9 @@
 // the n vertices (x, y in fixed point, map cell coordinates), the m occupied cells on the
 // rasterized rows sorted by row (row * WIDTH + col), r1 - r0 + 1 offsets into them (row r's
 // cells are [offset[r - r0], offset[r - r0 + 1])), and the occupied cells on other rows.
+//
+// Host side: src/opencl/rasterize.cpp; its rasterize_edges_arg, rasterize_rows_arg and
+// rasterize_bands_arg number the arguments of the kernels below: change both together.
 
 #define RASTER_WORDS ((WIDTH + 31) / 32)
 #define RASTER_FIXED_ONE (1L << FIXED_BITS)
@@ -300,7 +303,7 @@ bool RasterRowOf(int row_first, int row_end, int* r) {
 // shift it runs over every row that can hold a known cell or a level bit, before or after
 // (the host's RowSpan bookkeeping; the others are unknown and on no level either way), writing
 // dst(r, c) = src(r + dy, c + dx) and fusing the rasterized rows on the way.
-// src/opencl_backend.cpp defers the row pass of Rasterize() to learn which.
+// src/opencl/rasterize.cpp defers the row pass of Rasterize() to learn which.
 __kernel void rasterize_rows(__global const int* job, __global uint* toggles,
                              __global uint* occupied, __global uchar* update,
                              __global const short* src, __global short* dst, int dx, int dy,

@@ -9,6 +9,9 @@
 // The job buffer, written by the host each scan: a header of 8 ints, job[0] ray count, job[1]
 // origin column, job[2] origin row, then the end cells (col, row) of the rays. Origins and
 // ends may lie outside the map; cells outside are skipped.
+//
+// Host side: src/opencl/rays.cpp; its rays_cast_arg and rays_fuse_arg number the arguments of the
+// kernels below: change both together.
 
 __kernel void rays_cast(__global const int* job, __global int* delta) {
   const int i = get_global_id(0);

@@ -4,7 +4,10 @@
 // of a whole map or more are a fill, not this kernel.
 //
 // Build options: those of common.cl. Global size (row items, HEIGHT rounded up). When a
-// Fuse() follows, the shift runs inside rasterize_rows_fuse instead (rasterize.cl).
+// Fuse() follows, the shift runs inside the row pass instead (rasterize.cl).
+//
+// Host side: src/opencl/shift.cpp; its shift_map_arg numbers the arguments of the kernel below:
+// change both together.
 
 __kernel void shift_map(__global const short* src, __global short* dst, int dx, int dy) {
   const int r = get_global_id(1);
