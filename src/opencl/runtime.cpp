@@ -1,5 +1,5 @@
 // The OpenCL runtime: error names, device choice, shared contexts and the program cache
-// (see opencl_runtime.hpp). The disk cache of compiled kernels is the driver's own (PoCL keeps
+// (see opencl/runtime.hpp). The disk cache of compiled kernels is the driver's own (PoCL keeps
 // one in POCL_CACHE_DIR, by default under ~/.cache/pocl), so a second process skips the compiler.
 #include "opencl/runtime.hpp"
 

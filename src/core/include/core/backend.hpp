@@ -1,6 +1,6 @@
 // The compute backend interface: one virtual method per kernel stage of the pipeline
 // (DESIGN.md: rasterize, fuse, classify + open, in-sight scan, map shift). The TBB host
-// backend (host/) and the OpenCL backend (kernels/, src/opencl_backend.cpp) implement it and
+// backend (host/) and the OpenCL backend (kernels/, src/opencl/) implement it and
 // must give bit-identical results; CreateBackend() picks one from the config.
 #pragma once
 
