@@ -1,6 +1,11 @@
-// Config: defaults, YAML round trip, and error messages that name the field and the value.
-#include <cmath>
+// Config: defaults, YAML round trip, error messages that name the field and the value, and the
+// field table that gives every field its type, unit, range and doc.
+#include <yaml-cpp/yaml.h>
 
+#include <cmath>
+#include <set>
+
+#include "core/config_fields.hpp"
 #include "test_util.hpp"
 
 namespace freespace {
@@ -136,6 +141,60 @@ TEST(Config, OpeningElementIsAnOddSquareAboutTheVehicleWidth) {
   EXPECT_EQ(MakeKernelParams(c).opening_radius, 1);  // 3 cells
   c.classify.vehicle_width_m = 0.0;
   EXPECT_EQ(MakeKernelParams(c).opening_radius, 0);
+}
+
+TEST(ConfigDocs, EveryFieldHasATypeADocAndAValidDefault) {
+  std::set<std::string> names;
+  for (const ConfigFieldDoc& d : ConfigFieldDocs()) {
+    EXPECT_TRUE(names.insert(d.name).second) << d.name << " listed twice";
+    EXPECT_NE(d.name.find('.'), std::string::npos) << d.name;
+    EXPECT_FALSE(d.type.empty()) << d.name;
+    EXPECT_FALSE(d.doc.empty()) << d.name;
+    EXPECT_FALSE(d.default_value.empty()) << d.name;
+    if (d.type == "integer" || d.type == "number") {
+      EXPECT_FALSE(d.range.empty()) << d.name;
+    }
+  }
+  EXPECT_EQ(ConfigFieldNames().size(), names.size());
+  // Every field reads back from its section, so the names are the YAML keys.
+  const YAML::Node written = YAML::Load(Config().ToYaml());
+  for (const std::string& name : ConfigFieldNames()) {
+    const std::size_t dot = name.find('.');
+    EXPECT_TRUE(written[name.substr(0, dot)][name.substr(dot + 1)].IsDefined()) << name;
+  }
+}
+
+TEST(ConfigDocs, RangeErrorsComeFromTheTable) {
+  EXPECT_NE(ErrorOf("map:\n  width_cells: 0\n").find("map.width_cells = 0: must be in [1, 8192]"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("clutter:\n  eps_per_m: 1\n").find("clutter.eps_per_m = 1: must be in [0, 1)"),
+            std::string::npos);
+  EXPECT_NE(
+      ErrorOf("alignment:\n  max_speed_mps: 0\n").find("alignment.max_speed_mps = 0: must be > 0"),
+      std::string::npos);
+  EXPECT_NE(ErrorOf("alignment:\n  gain_s: .inf\n").find("alignment.gain_s = inf: must be finite"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sensor:\n  max_angle_deg: .nan\n")
+                .find("sensor.max_angle_deg = nan: must be finite"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("classify:\n  t_low: 0.45\n  t_high: 0.44\n")
+                .find("classify.t_high = 0.44: must be >= classify.t_low"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sensor:\n  min_angle_deg: 10\n  max_angle_deg: 5\n")
+                .find("sensor.max_angle_deg = 5: must be in (sensor.min_angle_deg"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sensor:\n  max_range_m: 5000\n").find("sensor.max_range_m = 5000: must keep"),
+            std::string::npos);
+  Config c;
+  c.backend.kind = BackendKind(7);
+  try {
+    c.Validate();
+    ADD_FAILURE() << "an enum value out of its names passed";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("backend.kind = 7: must be one of tbb | opencl | auto"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
