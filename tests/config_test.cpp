@@ -1,9 +1,11 @@
 // Config: defaults, YAML round trip, error messages that name the field and the value, and the
-// field table that gives every field its type, unit, range and doc.
+// project's files that must follow the field table: docs/configuration.md and configs/*.yaml.
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <fstream>
 #include <set>
+#include <sstream>
 
 #include "core/config_fields.hpp"
 #include "test_util.hpp"
@@ -143,6 +145,38 @@ TEST(Config, OpeningElementIsAnOddSquareAboutTheVehicleWidth) {
   EXPECT_EQ(MakeKernelParams(c).opening_radius, 0);
 }
 
+// docs/configuration.md holds the field table's rows (ConfigFieldsMarkdown) between these lines.
+constexpr const char* kDocsBegin =
+    "<!-- BEGIN fields: generated from the field table in src/core/config.cpp; "
+    "tests/config_test.cpp checks them -->\n";
+constexpr const char* kDocsEnd = "<!-- END fields -->\n";
+
+TEST(ConfigDocs, ConfigurationMdListsEveryFieldAsTheTableDoes) {
+  const std::string path = "docs/configuration.md";
+  std::string text = test::ReadSourceFile(path);
+  const std::size_t begin = text.find(kDocsBegin), end = text.find(kDocsEnd);
+  ASSERT_NE(begin, std::string::npos) << path << " lacks the line " << kDocsBegin;
+  ASSERT_NE(end, std::string::npos) << path << " lacks the line " << kDocsEnd;
+  ASSERT_LT(begin, end);
+  const std::size_t rows = begin + std::string(kDocsBegin).size();
+  const std::string expected = ConfigFieldsMarkdown();
+  if (text.compare(rows, end - rows, expected) != 0 && std::getenv("FREESPACE_UPDATE_DOCS")) {
+    text.replace(rows, end - rows, expected);
+    std::ofstream(test::SourcePath(path)) << text;
+    GTEST_SKIP() << "rewrote the field rows of " << test::SourcePath(path);
+  }
+  // Name the first line that differs rather than print both blocks whole.
+  std::istringstream have(text.substr(rows, end - rows)), want(expected);
+  for (int line = 1;; ++line) {
+    std::string a, b;
+    const bool more_a = bool(std::getline(have, a)), more_b = bool(std::getline(want, b));
+    if (!more_a && !more_b) break;
+    ASSERT_EQ(a, b) << path << ": line " << line << " of the field rows differs from the field "
+                    << "table (src/core/config.cpp); run this test with FREESPACE_UPDATE_DOCS=1 "
+                    << "to rewrite the rows";
+  }
+}
+
 TEST(ConfigDocs, EveryFieldHasATypeADocAndAValidDefault) {
   std::set<std::string> names;
   for (const ConfigFieldDoc& d : ConfigFieldDocs()) {
@@ -195,6 +229,35 @@ TEST(ConfigDocs, RangeErrorsComeFromTheTable) {
               std::string::npos)
         << e.what();
   }
+}
+
+// configs/scala.yaml is the full reference config: every field set, each to its default but
+// the sensor's mount and the polygon's settings (its header says which and why).
+TEST(ConfigDocs, ScalaYamlSetsEveryFieldToItsDefaultButTheNamedOnes) {
+  const std::string text = test::ReadSourceFile("configs/scala.yaml");
+  const YAML::Node root = YAML::Load(text);
+  const Config scala = test::LoadProjectConfig("scala.yaml");
+  const YAML::Node values = YAML::Load(scala.ToYaml()), defaults = YAML::Load(Config().ToYaml());
+  const std::set<std::string> not_default = {"sensor.mount_x_m",     "polygon.shape",
+                                             "polygon.max_vertices", "polygon.epsilon_m",
+                                             "polygon.margin_cells", "polygon.margin_cone_deg"};
+  for (const std::string& name : ConfigFieldNames()) {
+    const std::string section = name.substr(0, name.find('.'));
+    const std::string field = name.substr(name.find('.') + 1);
+    EXPECT_TRUE(root[section][field].IsDefined()) << "configs/scala.yaml does not set " << name;
+    const bool same = values[section][field].Scalar() == defaults[section][field].Scalar();
+    EXPECT_EQ(same, !not_default.count(name))
+        << name << " = " << values[section][field].Scalar() << " in configs/scala.yaml, default "
+        << defaults[section][field].Scalar();
+  }
+}
+
+// The other project configs are valid and set only fields the table knows (FromYaml checks).
+TEST(ConfigDocs, ProjectConfigsAreValid) {
+  const Config indoor = test::LoadProjectConfig("indoor.yaml");
+  EXPECT_DOUBLE_EQ(indoor.classify.vehicle_width_m, 0.4);
+  EXPECT_DOUBLE_EQ(indoor.alignment.max_speed_mps, 5.0);
+  EXPECT_DOUBLE_EQ(indoor.alignment.jump_slack_m, 1.0);
 }
 
 }  // namespace
