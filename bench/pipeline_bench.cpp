@@ -20,7 +20,8 @@ void RunPipeline(benchmark::State& state, const std::string& log, bool indoor, s
     state.SkipWithError(("recorded data not found: " + log).c_str());
     return;
   }
-  Config config;
+  // The indoor logs with the indoor settings (configs/indoor.yaml), the rest with the defaults.
+  Config config = indoor ? LoadProjectConfig("indoor.yaml") : Config();
   config.backend = BenchBackend(backend);
   config.backend.opencl_wait = wait;
   // FREESPACE_BENCH_THREADS: TBB worker threads (backend.threads; unset or 0 = all cores).
@@ -30,7 +31,6 @@ void RunPipeline(benchmark::State& state, const std::string& log, bool indoor, s
   const int cells = int(state.range(1));
   config.map.width_cells = config.map.height_cells = cells;
   config.sensor = sensor;
-  if (indoor) config.classify.vehicle_width_m = 0.4;
   std::unique_ptr<Estimator> estimator;
   try {
     estimator = std::make_unique<Estimator>(config);

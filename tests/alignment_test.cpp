@@ -223,9 +223,8 @@ TEST(MapWarper, WholeCellMotionIsAnExactShiftAndTurnsMoveTheWorld) {
 TEST(Alignment, RotateBaselineKeepsPolygonsAroundTheVehicleInWorldCoordinates) {
   FREESPACE_REQUIRE_DATA("carmen/intel-corrected.log", path);
   auto reader = OpenLog(path);
-  Config c;
+  Config c = test::LoadProjectConfig("indoor.yaml");
   c.sensor = reader->sensor();
-  c.classify.vehicle_width_m = 0.4;
   c.alignment.kind = AlignmentKind::kRotate;
   Estimator estimator(c);
   Scan scan;
@@ -255,9 +254,8 @@ namespace {
 TEST(Alignment, CircleMapEqualsTheWorldFixedReferenceAndRotateDoesNot) {
   FREESPACE_REQUIRE_DATA("carmen/intel-corrected.log", path);
   auto reader = OpenLog(path);
-  Config circle;
+  Config circle = test::LoadProjectConfig("indoor.yaml");
   circle.sensor = reader->sensor();
-  circle.classify.vehicle_width_m = 0.4;
   circle.alignment.gain_s = 20.0;  // a slow robot: a large circle, so the map moves a lot
   Config rotate = circle;
   rotate.alignment.kind = AlignmentKind::kRotate;

@@ -1,6 +1,13 @@
-// Config: defaults, YAML round trip, and error messages that name the field and the value.
-#include <cmath>
+// Config: defaults, YAML round trip, error messages that name the field and the value, and the
+// project's files that must follow the field table: docs/configuration.md and configs/*.yaml.
+#include <yaml-cpp/yaml.h>
 
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "core/config_fields.hpp"
 #include "test_util.hpp"
 
 namespace freespace {
@@ -136,6 +143,121 @@ TEST(Config, OpeningElementIsAnOddSquareAboutTheVehicleWidth) {
   EXPECT_EQ(MakeKernelParams(c).opening_radius, 1);  // 3 cells
   c.classify.vehicle_width_m = 0.0;
   EXPECT_EQ(MakeKernelParams(c).opening_radius, 0);
+}
+
+// docs/configuration.md holds the field table's rows (ConfigFieldsMarkdown) between these lines.
+constexpr const char* kDocsBegin =
+    "<!-- BEGIN fields: generated from the field table in src/core/config.cpp; "
+    "tests/config_test.cpp checks them -->\n";
+constexpr const char* kDocsEnd = "<!-- END fields -->\n";
+
+TEST(ConfigDocs, ConfigurationMdListsEveryFieldAsTheTableDoes) {
+  const std::string path = "docs/configuration.md";
+  std::string text = test::ReadSourceFile(path);
+  const std::size_t begin = text.find(kDocsBegin), end = text.find(kDocsEnd);
+  ASSERT_NE(begin, std::string::npos) << path << " lacks the line " << kDocsBegin;
+  ASSERT_NE(end, std::string::npos) << path << " lacks the line " << kDocsEnd;
+  ASSERT_LT(begin, end);
+  const std::size_t rows = begin + std::string(kDocsBegin).size();
+  const std::string expected = ConfigFieldsMarkdown();
+  if (text.compare(rows, end - rows, expected) != 0 && std::getenv("FREESPACE_UPDATE_DOCS")) {
+    text.replace(rows, end - rows, expected);
+    std::ofstream(test::SourcePath(path)) << text;
+    GTEST_SKIP() << "rewrote the field rows of " << test::SourcePath(path);
+  }
+  // Name the first line that differs rather than print both blocks whole.
+  std::istringstream have(text.substr(rows, end - rows)), want(expected);
+  for (int line = 1;; ++line) {
+    std::string a, b;
+    const bool more_a = bool(std::getline(have, a)), more_b = bool(std::getline(want, b));
+    if (!more_a && !more_b) break;
+    ASSERT_EQ(a, b) << path << ": line " << line << " of the field rows differs from the field "
+                    << "table (src/core/config.cpp); run this test with FREESPACE_UPDATE_DOCS=1 "
+                    << "to rewrite the rows";
+  }
+}
+
+TEST(ConfigDocs, EveryFieldHasATypeADocAndAValidDefault) {
+  std::set<std::string> names;
+  for (const ConfigFieldDoc& d : ConfigFieldDocs()) {
+    EXPECT_TRUE(names.insert(d.name).second) << d.name << " listed twice";
+    EXPECT_NE(d.name.find('.'), std::string::npos) << d.name;
+    EXPECT_FALSE(d.type.empty()) << d.name;
+    EXPECT_FALSE(d.doc.empty()) << d.name;
+    EXPECT_FALSE(d.default_value.empty()) << d.name;
+    if (d.type == "integer" || d.type == "number") {
+      EXPECT_FALSE(d.range.empty()) << d.name;
+    }
+  }
+  EXPECT_EQ(ConfigFieldNames().size(), names.size());
+  // Every field reads back from its section, so the names are the YAML keys.
+  const YAML::Node written = YAML::Load(Config().ToYaml());
+  for (const std::string& name : ConfigFieldNames()) {
+    const std::size_t dot = name.find('.');
+    EXPECT_TRUE(written[name.substr(0, dot)][name.substr(dot + 1)].IsDefined()) << name;
+  }
+}
+
+TEST(ConfigDocs, RangeErrorsComeFromTheTable) {
+  EXPECT_NE(ErrorOf("map:\n  width_cells: 0\n").find("map.width_cells = 0: must be in [1, 8192]"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("clutter:\n  eps_per_m: 1\n").find("clutter.eps_per_m = 1: must be in [0, 1)"),
+            std::string::npos);
+  EXPECT_NE(
+      ErrorOf("alignment:\n  max_speed_mps: 0\n").find("alignment.max_speed_mps = 0: must be > 0"),
+      std::string::npos);
+  EXPECT_NE(ErrorOf("alignment:\n  gain_s: .inf\n").find("alignment.gain_s = inf: must be finite"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sensor:\n  max_angle_deg: .nan\n")
+                .find("sensor.max_angle_deg = nan: must be finite"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("classify:\n  t_low: 0.45\n  t_high: 0.44\n")
+                .find("classify.t_high = 0.44: must be >= classify.t_low"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sensor:\n  min_angle_deg: 10\n  max_angle_deg: 5\n")
+                .find("sensor.max_angle_deg = 5: must be in (sensor.min_angle_deg"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sensor:\n  max_range_m: 5000\n").find("sensor.max_range_m = 5000: must keep"),
+            std::string::npos);
+  Config c;
+  c.backend.kind = BackendKind(7);
+  try {
+    c.Validate();
+    ADD_FAILURE() << "an enum value out of its names passed";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("backend.kind = 7: must be one of tbb | opencl | auto"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// configs/scala.yaml is the full reference config: every field set, each to its default but
+// the sensor's mount and the polygon's settings (its header says which and why).
+TEST(ConfigDocs, ScalaYamlSetsEveryFieldToItsDefaultButTheNamedOnes) {
+  const std::string text = test::ReadSourceFile("configs/scala.yaml");
+  const YAML::Node root = YAML::Load(text);
+  const Config scala = test::LoadProjectConfig("scala.yaml");
+  const YAML::Node values = YAML::Load(scala.ToYaml()), defaults = YAML::Load(Config().ToYaml());
+  const std::set<std::string> not_default = {"sensor.mount_x_m",     "polygon.shape",
+                                             "polygon.max_vertices", "polygon.epsilon_m",
+                                             "polygon.margin_cells", "polygon.margin_cone_deg"};
+  for (const std::string& name : ConfigFieldNames()) {
+    const std::string section = name.substr(0, name.find('.'));
+    const std::string field = name.substr(name.find('.') + 1);
+    EXPECT_TRUE(root[section][field].IsDefined()) << "configs/scala.yaml does not set " << name;
+    const bool same = values[section][field].Scalar() == defaults[section][field].Scalar();
+    EXPECT_EQ(same, !not_default.count(name))
+        << name << " = " << values[section][field].Scalar() << " in configs/scala.yaml, default "
+        << defaults[section][field].Scalar();
+  }
+}
+
+// The other project configs are valid and set only fields the table knows (FromYaml checks).
+TEST(ConfigDocs, ProjectConfigsAreValid) {
+  const Config indoor = test::LoadProjectConfig("indoor.yaml");
+  EXPECT_DOUBLE_EQ(indoor.classify.vehicle_width_m, 0.4);
+  EXPECT_DOUBLE_EQ(indoor.alignment.max_speed_mps, 5.0);
+  EXPECT_DOUBLE_EQ(indoor.alignment.jump_slack_m, 1.0);
 }
 
 }  // namespace

@@ -203,12 +203,12 @@ std::vector<CellIndex> ReferenceEdges(const MapView& map, CellIndex vehicle) {
   return edges;
 }
 
-// The Intel lab setup: the log's sensor, a narrow robot, the given backend and polygon shape.
+// The Intel lab setup: the indoor settings (configs/indoor.yaml), the log's sensor, the given
+// backend and polygon shape.
 Config IntelConfig(const SensorConfig& sensor, BackendKind kind, PolygonShape shape) {
-  Config c;
+  Config c = test::LoadProjectConfig("indoor.yaml");
   c.backend.kind = kind;
   c.sensor = sensor;
-  c.classify.vehicle_width_m = 0.4;
   c.polygon.shape = shape;
   return c;
 }

@@ -10,13 +10,10 @@
 namespace freespace {
 namespace {
 
-// The CLI's indoor settings (configs/indoor.yaml) for the CARMEN logs.
+// The indoor settings for the CARMEN logs (configs/indoor.yaml) with the log's sensor.
 Config IndoorConfig(const SensorConfig& sensor) {
-  Config c;
+  Config c = test::LoadProjectConfig("indoor.yaml");
   c.sensor = sensor;
-  c.classify.vehicle_width_m = 0.4;
-  c.alignment.max_speed_mps = 5.0;
-  c.alignment.jump_slack_m = 1.0;
   return c;
 }
 

@@ -1,5 +1,6 @@
-// Helpers shared by the test files: where the recorded data is, the backends every stage test
-// runs on, and small scan builders.
+// Helpers shared by the test files: the GoogleTest side of the testing library (tests/support:
+// data and project files, backends, scans and stage inputs): skipping a case, with the reason,
+// where its recorded data or its backend is absent, and the backends every stage test runs on.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -14,17 +15,11 @@
 #include "core/backend.hpp"
 #include "engine/backend_factory.hpp"
 #include "freespace/freespace.hpp"
+#include "support/backends.hpp"
+#include "support/inputs.hpp"
+#include "support/paths.hpp"
 
 namespace freespace::test {
-
-// ../shared/data (FREESPACE_DATA_DIR overrides); empty when absent.
-inline std::string DataDir() {
-  if (const char* env = std::getenv("FREESPACE_DATA_DIR")) {
-    if (std::filesystem::is_directory(env)) return env;
-  }
-  if (std::filesystem::is_directory(FREESPACE_TEST_DATA_DIR)) return FREESPACE_TEST_DATA_DIR;
-  return "";
-}
 
 // Skips the calling test, with the reason, when the recorded log is not there.
 #define FREESPACE_REQUIRE_DATA(relative, path_var)                                  \
@@ -40,25 +35,6 @@ inline std::vector<BackendKind> AllBackends() { return {BackendKind::kTbb, Backe
 inline std::string BackendParamName(const ::testing::TestParamInfo<BackendKind>& info) {
   return info.param == BackendKind::kTbb ? "tbb" : "opencl";
 }
-
-// Creates a backend of `kind` for `params`; on OpenCL, when no device or no OpenCL build is
-// available, sets `skip_reason` and returns null.
-std::unique_ptr<Backend> MakeBackend(BackendKind kind, const KernelParams& params,
-                                     std::string* skip_reason);
-
-// Gives `backend` the helper threads it asks for (Backend::WantedCrew), from crews that live as
-// long as the test process.
-void AttachCrew(Backend* backend);
-
-// A config whose map is width x height and that stays valid for tiny maps.
-Config SmallConfig(int width, int height, double resolution = 0.2);
-
-// Kernel params with the default probabilities for a width x height map.
-KernelParams SmallParams(int width, int height, int opening_radius = 0);
-
-// A single-layer scan: beams at `angles_deg` with `ranges` (negative = no echo).
-Scan MakeScan(double t, Pose2D pose, const std::vector<double>& angles_deg,
-              const std::vector<double>& ranges);
 
 }  // namespace freespace::test
 
