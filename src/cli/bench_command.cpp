@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "engine_options.hpp"
 #include "eval/bench_report.hpp"
 #include "freespace/freespace.hpp"
 #include "output/plot.hpp"

@@ -12,6 +12,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "commands.hpp"
+#include "engine_options.hpp"
 #include "eval/scorer.hpp"
 #include "freespace/freespace.hpp"
 #include "output/render.hpp"

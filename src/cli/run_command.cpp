@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "engine_options.hpp"
 #include "eval/stage_stats.hpp"
 #include "freespace/freespace.hpp"
 #include "output/render.hpp"
