@@ -26,20 +26,22 @@ namespace freespace {
 struct PaperFigure {
   double value;
   const char* unit;
-  const char* section;  // of the paper (Eraqi, Honer, Zuther)
-  const char* what;
+  const char* section;  // of the paper (Eraqi, Honer, Zuther), "V.B" = V. Experimental results, B
+  const char* what;     // what the paper says the figure is
 };
 
-// The paper's figures the bench compares its run with.
+// The paper's figures the bench sets its run against.
 struct PaperFigures {
-  // Enhanced vs conventional inverse sensor model: full scans processed in this much less time.
-  PaperFigure enhanced_time_saved;
-  // Vehicle on a circle vs a rotated, sub-pixel shifted map: time saved, of the OGM's time.
-  PaperFigure circle_time_saved;
+  PaperFigure enhanced_time_saved;  // enhanced vs conventional inverse sensor model
+  PaperFigure circle_time_saved;    // vehicle on a circle vs a rotated, sub-pixel shifted map
 };
 inline constexpr PaperFigures kPaperFigures = {
-    {44.07, "%", "V.B", "enhanced vs conventional inverse sensor model, less time a full scan"},
-    {4.30, "%", "V.B", "vehicle on a circle vs rotated map, less of the OGM execution time"},
+    {44.07, "%", "V.B",
+     "the enhanced inverse sensor model processed full scans in less time than the "
+     "conventional one by this much on average"},
+    {4.30, "%", "V.B",
+     "the overall time saved by the vehicle on a circle, avoiding image rotation and sub-pixel "
+     "shifting, of the overall OGM execution time (enhanced inverse sensor model)"},
 };
 
 // The files `freespace bench` writes into its output folder.
