@@ -4,9 +4,6 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
-#include <string>
-
-#include "freespace/config.hpp"
 
 namespace freespace::cli {
 
@@ -27,26 +24,5 @@ Command AddSimulateCommand(CLI::App& app);
 Command AddEvalCommand(CLI::App& app);
 Command AddDemoCommand(CLI::App& app);
 Command AddDevicesCommand(CLI::App& app);
-
-// Options every engine-running command shares.
-struct EngineOptions {
-  std::string config_path;
-  std::string backend;      // empty = as configured
-  int threads = -1;         // -1 = as configured
-  std::string opencl_wait;  // empty = as configured
-  int opencl_devices = 0;   // 0 = as configured
-};
-void AddEngineOptions(CLI::App* command, EngineOptions* options);
-
-// The config of a command: `base` (the defaults unless a command has its own), replaced by
-// --config (whose missing fields keep the defaults), then overridden by --backend / --threads /
-// --opencl-wait.
-// When the config file has no `sensor` section and `log_sensor` is given, the sensor comes
-// from the log. Throws ConfigError.
-Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_sensor,
-                        const Config& base = Config());
-
-// Creates `dir` (and parents); throws InputError when it cannot.
-void MakeDirectories(const std::string& dir);
 
 }  // namespace freespace::cli

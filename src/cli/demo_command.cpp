@@ -12,6 +12,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "commands.hpp"
+#include "engine_options.hpp"
 #include "eval/scorer.hpp"
 #include "freespace/freespace.hpp"
 #include "output/render.hpp"
@@ -57,165 +58,209 @@ Config RoadConfig() {
   return config;
 }
 
-int Demo(const DemoOptions& options) {
-  const Clock::time_point started = Clock::now();
-  std::unique_ptr<sim::Simulation> simulation;
-  std::unique_ptr<sim::SimulationWriter> writer;
-  std::unique_ptr<Estimator> estimator;
-  std::ofstream polygons;
-  Config config;
-  try {
-    simulation = std::make_unique<sim::Simulation>(MakeSimulationOptions(options.sim));
-    MakeDirectories(options.out);
-    writer = std::make_unique<sim::SimulationWriter>(options.out, simulation->truth().scanner);
-    const SensorConfig sensor = simulation->truth().scanner.EngineSensor();
-    config = LoadEngineConfig(options.engine, &sensor, RoadConfig());
-    estimator = std::make_unique<Estimator>(config);
-    std::ofstream(options.out + "/config.yaml") << config.ToYaml();
-    polygons.open(options.out + "/polygons.jsonl", std::ios::trunc);
-    if (!polygons) throw InputError(options.out + "/polygons.jsonl: cannot create");
-  } catch (const std::exception& e) {
-    std::cerr << "freespace demo: " << e.what() << "\n";
-    return kExitSetup;
+// One `freespace demo`: the simulated drive, the estimator, the scorer and what they write.
+class DemoRun {
+ public:
+  explicit DemoRun(const DemoOptions& options) : options_(options) {}
+
+  int Run() {
+    started_ = last_progress_ = Clock::now();
+    if (!Open()) return kExitSetup;
+    PrintSetup();
+    try {
+      Drive();
+    } catch (const std::exception& e) {
+      std::cerr << "\nfreespace demo: " << e.what() << "\n";
+      return kExitSetup;
+    }
+    return Report();
   }
-  const sim::Scenario& scenario = simulation->scenario();
-  const std::size_t total = simulation->scan_count();
-  std::cout << "freespace demo: " << scenario.name << " (seed " << options.sim.seed
-            << "): " << scenario.description << "\n"
-            << "freespace demo: " << total << " scans over "
-            << double(total - 1) * simulation->truth().scanner.scan_period_s << " s, odometry "
-            << options.sim.odometry_noise << "; backend " << estimator->backend_name() << ", map "
-            << config.map.width_cells << " x " << config.map.height_cells << " at "
-            << config.map.resolution_m << " m\n";
 
-  sim::TruthScorer scorer(simulation->truth());
-  MetricsSeries metrics;
-  StageSeries times;
-  std::vector<double> simulate_us, score_us, render_us;
-  EchoCounts echoes;
-  cv::VideoWriter video;
-  const std::string video_path = options.out + "/demo.avi";
-  std::size_t snapshots = 0, frames = 0;
-  long rejected = 0;
-  const bool tty = isatty(STDERR_FILENO);
-  Clock::time_point last_progress = started;
-  const double fps = 1.0 / (simulation->truth().scanner.scan_period_s * options.video_every);
-  const double map_w = config.map.width_cells * config.map.resolution_m;
-  const double map_h = config.map.height_cells * config.map.resolution_m;
+ private:
+  // Opens the drive, its writer, the config, the estimator and polygons.jsonl, and writes
+  // config.yaml; false (printed) when one fails.
+  bool Open() {
+    try {
+      simulation_ = std::make_unique<sim::Simulation>(MakeSimulationOptions(options_.sim));
+      MakeDirectories(options_.out);
+      writer_ = std::make_unique<sim::SimulationWriter>(options_.out, truth().scanner);
+      const SensorConfig sensor = truth().scanner.EngineSensor();
+      config_ = LoadEngineConfig(options_.engine, &sensor, RoadConfig());
+      estimator_ = std::make_unique<Estimator>(config_);
+      std::ofstream(options_.out + "/config.yaml") << config_.ToYaml();
+      polygons_.open(options_.out + "/polygons.jsonl", std::ios::trunc);
+      if (!polygons_) throw InputError(options_.out + "/polygons.jsonl: cannot create");
+    } catch (const std::exception& e) {
+      std::cerr << "freespace demo: " << e.what() << "\n";
+      return false;
+    }
+    scorer_ = std::make_unique<sim::TruthScorer>(truth());
+    return true;
+  }
 
-  try {
+  const sim::Truth& truth() const { return simulation_->truth(); }
+
+  void PrintSetup() const {
+    const sim::Scenario& scenario = simulation_->scenario();
+    const std::size_t total = simulation_->scan_count();
+    std::cout << "freespace demo: " << scenario.name << " (seed " << options_.sim.seed
+              << "): " << scenario.description << "\n"
+              << "freespace demo: " << total << " scans over "
+              << double(total - 1) * truth().scanner.scan_period_s << " s, odometry "
+              << options_.sim.odometry_noise << "; backend " << estimator_->backend_name()
+              << ", map " << config_.map.width_cells << " x " << config_.map.height_cells << " at "
+              << config_.map.resolution_m << " m\n";
+  }
+
+  // Simulates, estimates, scores and draws every scan of the drive, then closes its files.
+  void Drive() {
     Scan scan;
     std::vector<sim::EchoSource> sources;
     for (std::size_t index = 0;; ++index) {
       const Clock::time_point t0 = Clock::now();
-      if (!simulation->Next(&scan, &sources)) break;
-      const Clock::time_point t1 = Clock::now();
-      simulate_us.push_back(Micros(t0, t1));
-      echoes.Add(sources);
-      writer->Write(scan);
+      if (!simulation_->Next(&scan, &sources)) break;
+      simulate_us_.push_back(Micros(t0, Clock::now()));
+      echoes_.Add(sources);
+      writer_->Write(scan);
 
-      const Result& r = estimator->Process(scan);
+      const Result& r = estimator_->Process(scan);
       if (r.status == ScanStatus::kRejected) {
-        ++rejected;
+        ++rejected_;
         std::cerr << "freespace demo: scan " << index << " rejected: " << r.message << "\n";
         continue;
       }
-      times.Add(r.times);
-      polygons << PolygonJsonLine(r.scan_index, r) << '\n';
-      const MapView map = estimator->map();
+      times_.Add(r.times);
+      polygons_ << PolygonJsonLine(r.scan_index, r) << '\n';
+      const MapView map = estimator_->map();
       const Clock::time_point t2 = Clock::now();
-      const ScanMetrics m = scorer.Score(index, map, r);
+      const ScanMetrics m = scorer_->Score(index, map, r);
       const Clock::time_point t3 = Clock::now();
-      score_us.push_back(Micros(t2, t3));
-      metrics.Add(m);
-
-      const bool last = index + 1 == total;
-      const bool frame = !options.no_video && index % options.video_every == 0;
-      const bool snapshot =
-          last || (options.snapshot_every > 0 && index % options.snapshot_every == 0);
-      if (frame || snapshot) {
-        const std::vector<std::vector<Vec2>> truth =
-            scorer.Outlines(index, map.origin, map.origin + Vec2(map_w, map_h));
-        SnapshotOverlay overlay;
-        overlay.truth = &truth;
-        char caption[200];
-        std::snprintf(caption, sizeof caption,
-                      "%s  t %.2f s  %.0f km/h  accuracy %.3f  intrusion %.2f m2  coverage %.2f",
-                      scenario.name.c_str(), r.timestamp_s, simulation->last().speed * 3.6,
-                      m.accuracy, m.intrusion_m2, m.coverage);
-        overlay.caption = caption;
-        const cv::Mat image = RenderSnapshot(map, r, overlay);
-        if (frame) {
-          if (!video.isOpened()) {
-            video.open(video_path, cv::CAP_OPENCV_MJPEG,
-                       cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), fps, image.size());
-            if (!video.isOpened()) throw InputError(video_path + ": cannot open a MJPG writer");
-            video.set(cv::VIDEOWRITER_PROP_QUALITY, 75);
-          }
-          video.write(image);
-          ++frames;
-        }
-        if (snapshot) {
-          char name[64];
-          std::snprintf(name, sizeof name, "/snapshot_%06zu.png", index);
-          WritePng(options.out + name, image);
-          ++snapshots;
-        }
-      }
+      score_us_.push_back(Micros(t2, t3));
+      metrics_.Add(m);
+      const bool drawn = Draw(index, map, r, m);
       const Clock::time_point t4 = Clock::now();
-      if (frame || snapshot) render_us.push_back(Micros(t3, t4));
-
-      if (!options.quiet && tty && t4 - last_progress > std::chrono::seconds(1)) {
-        last_progress = t4;
-        std::fprintf(stderr, "\r%3.0f%%  scan %zu of %zu", 100.0 * double(index + 1) / total,
-                     index + 1, total);
-      }
+      if (drawn) render_us_.push_back(Micros(t3, t4));
+      PrintProgress(index, t4);
     }
-    if (!options.quiet && tty) std::fprintf(stderr, "\r%40s\r", "");
-    video.release();
-    polygons.close();
-    writer->Close(simulation->truth());
-  } catch (const std::exception& e) {
-    std::cerr << "\nfreespace demo: " << e.what() << "\n";
-    return kExitSetup;
+    if (!options_.quiet && tty_) std::fprintf(stderr, "\r%40s\r", "");
+    video_.release();
+    polygons_.close();
+    writer_->Close(truth());
   }
 
-  ReportContext context;
-  context.scenario = scenario.name;
-  context.log = writer->log_path();
-  context.truth = writer->truth_path();
-  context.backend = estimator->backend_name();
-  context.scans_read = long(simulation->truth().scans.size());
-  context.rejected = rejected;
-  const nlohmann::json report = QualityReport(context, metrics, times);
-  try {
-    WriteJson(options.out + "/eval.json", report);
-  } catch (const std::exception& e) {
-    std::cerr << "freespace demo: " << e.what() << "\n";
-    return kExitSetup;
+  // A video frame every --video-every scans, a snapshot every --snapshot-every and of the last
+  // scan: the map, the polygon, the vehicle and the true outlines. True when one was drawn.
+  bool Draw(std::size_t index, const MapView& map, const Result& r, const ScanMetrics& m) {
+    const bool last = index + 1 == simulation_->scan_count();
+    const bool frame = !options_.no_video && index % options_.video_every == 0;
+    const bool snapshot =
+        last || (options_.snapshot_every > 0 && index % options_.snapshot_every == 0);
+    if (!frame && !snapshot) return false;
+    const Vec2 extent(config_.map.width_cells * config_.map.resolution_m,
+                      config_.map.height_cells * config_.map.resolution_m);
+    const std::vector<std::vector<Vec2>> outlines =
+        scorer_->Outlines(index, map.origin, map.origin + extent);
+    SnapshotOverlay overlay;
+    overlay.truth = &outlines;
+    char caption[200];
+    std::snprintf(caption, sizeof caption,
+                  "%s  t %.2f s  %.0f km/h  accuracy %.3f  intrusion %.2f m2  coverage %.2f",
+                  simulation_->scenario().name.c_str(), r.timestamp_s,
+                  simulation_->last().speed * 3.6, m.accuracy, m.intrusion_m2, m.coverage);
+    overlay.caption = caption;
+    const cv::Mat image = RenderSnapshot(map, r, overlay);
+    if (frame) AddFrame(image);
+    if (snapshot) {
+      char name[64];
+      std::snprintf(name, sizeof name, "/snapshot_%06zu.png", index);
+      WritePng(options_.out + name, image);
+      ++snapshots_;
+    }
+    return true;
   }
-  const double seconds = std::chrono::duration<double>(Clock::now() - started).count();
 
-  const nlohmann::json& stage = report.at("stage_us");
-  auto ms = [&](const char* name) { return stage.at(name).at("median").get<double>() / 1000.0; };
-  char line[320];
-  std::cout << "freespace demo: simulated " << echoes.ToString() << "\n";
-  std::snprintf(line, sizeof line,
-                "freespace demo: median ms per scan: simulate %.2f | estimator %.3f (preprocess "
-                "%.3f, align %.3f, rasterize %.3f, fuse %.3f, classify %.3f, insight %.3f, "
-                "polygon %.3f) | score %.2f | render + video %.2f per frame\n",
-                MedianMs(simulate_us), ms("total"), ms("preprocess"), ms("align"), ms("rasterize"),
-                ms("fuse"), ms("classify"), ms("insight"), ms("polygon"), MedianMs(score_us),
-                MedianMs(render_us));
-  std::cout << line;
-  std::cout << "freespace demo: quality over " << metrics.size() << " scans (docs/metrics.md):\n";
-  PrintQuality(std::cout, report.at("summary"));
-  std::cout << "freespace demo: wrote " << options.out << "/: sim.fslog, sim.clf, truth.json, "
-            << "config.yaml, polygons.jsonl, eval.json, "
-            << (frames > 0 ? "demo.avi (" + std::to_string(frames) + " frames), " : "") << snapshots
-            << " snapshot PNG(s); " << seconds << " s in all\n";
-  return kExitOk;
-}
+  // Appends `image` to demo.avi, opening it on the first frame.
+  void AddFrame(const cv::Mat& image) {
+    if (!video_.isOpened()) {
+      const std::string path = options_.out + "/demo.avi";
+      const double fps = 1.0 / (truth().scanner.scan_period_s * options_.video_every);
+      video_.open(path, cv::CAP_OPENCV_MJPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), fps,
+                  image.size());
+      if (!video_.isOpened()) throw InputError(path + ": cannot open a MJPG writer");
+      video_.set(cv::VIDEOWRITER_PROP_QUALITY, 75);
+    }
+    video_.write(image);
+    ++frames_;
+  }
+
+  // The share of the drive done, once a second on a terminal.
+  void PrintProgress(std::size_t index, Clock::time_point now) {
+    if (options_.quiet || !tty_ || now - last_progress_ <= std::chrono::seconds(1)) return;
+    last_progress_ = now;
+    const std::size_t total = simulation_->scan_count();
+    std::fprintf(stderr, "\r%3.0f%%  scan %zu of %zu", 100.0 * double(index + 1) / total, index + 1,
+                 total);
+  }
+
+  // eval.json and the printed timings and quality.
+  int Report() {
+    ReportContext context;
+    context.scenario = simulation_->scenario().name;
+    context.log = writer_->log_path();
+    context.truth = writer_->truth_path();
+    context.backend = estimator_->backend_name();
+    context.scans_read = long(truth().scans.size());
+    context.rejected = rejected_;
+    const nlohmann::json report = QualityReport(context, metrics_, times_);
+    try {
+      WriteJson(options_.out + "/eval.json", report);
+    } catch (const std::exception& e) {
+      std::cerr << "freespace demo: " << e.what() << "\n";
+      return kExitSetup;
+    }
+    const double seconds = std::chrono::duration<double>(Clock::now() - started_).count();
+    PrintTimings(report.at("stage_us"));
+    std::cout << "freespace demo: quality over " << metrics_.size()
+              << " scans (docs/metrics.md):\n";
+    PrintQuality(std::cout, report.at("summary"));
+    std::cout << "freespace demo: wrote " << options_.out << "/: sim.fslog, sim.clf, truth.json, "
+              << "config.yaml, polygons.jsonl, eval.json, "
+              << (frames_ > 0 ? "demo.avi (" + std::to_string(frames_) + " frames), " : "")
+              << snapshots_ << " snapshot PNG(s); " << seconds << " s in all\n";
+    return kExitOk;
+  }
+
+  void PrintTimings(const nlohmann::json& stage) const {
+    auto ms = [&](const char* name) { return stage.at(name).at("median").get<double>() / 1000.0; };
+    char line[320];
+    std::cout << "freespace demo: simulated " << echoes_.ToString() << "\n";
+    std::snprintf(line, sizeof line,
+                  "freespace demo: median ms per scan: simulate %.2f | estimator %.3f (preprocess "
+                  "%.3f, align %.3f, rasterize %.3f, fuse %.3f, classify %.3f, insight %.3f, "
+                  "polygon %.3f) | score %.2f | render + video %.2f per frame\n",
+                  MedianMs(simulate_us_), ms("total"), ms("preprocess"), ms("align"),
+                  ms("rasterize"), ms("fuse"), ms("classify"), ms("insight"), ms("polygon"),
+                  MedianMs(score_us_), MedianMs(render_us_));
+    std::cout << line;
+  }
+
+  const DemoOptions& options_;
+  std::unique_ptr<sim::Simulation> simulation_;
+  std::unique_ptr<sim::SimulationWriter> writer_;
+  std::unique_ptr<Estimator> estimator_;
+  std::unique_ptr<sim::TruthScorer> scorer_;
+  std::ofstream polygons_;
+  Config config_;
+  MetricsSeries metrics_;
+  StageSeries times_;
+  std::vector<double> simulate_us_, score_us_, render_us_;
+  EchoCounts echoes_;
+  cv::VideoWriter video_;
+  std::size_t snapshots_ = 0, frames_ = 0;
+  long rejected_ = 0;
+  const bool tty_ = isatty(STDERR_FILENO);
+  Clock::time_point started_, last_progress_;
+};
 
 }  // namespace
 
@@ -245,7 +290,7 @@ Command AddDemoCommand(CLI::App& app) {
   command->add_flag("--no-video", options->no_video, "Write no video");
   command->add_flag("--quiet", options->quiet, "No progress line");
   AddEngineOptions(command, &options->engine);
-  return {command, [options] { return Demo(*options); }};
+  return {command, [options] { return DemoRun(*options).Run(); }};
 }
 
 }  // namespace freespace::cli

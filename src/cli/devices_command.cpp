@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "engine_options.hpp"
 #include "freespace/freespace.hpp"
 
 namespace freespace::cli {

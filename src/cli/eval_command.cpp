@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "engine_options.hpp"
 #include "eval/scorer.hpp"
 #include "freespace/freespace.hpp"
 #include "quality_report.hpp"

@@ -3,6 +3,7 @@
 // skipped and counted; with --strict the first bad input stops the run with exit code 1.
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "engine_options.hpp"
 #include "eval/stage_stats.hpp"
 #include "freespace/freespace.hpp"
 #include "output/render.hpp"
@@ -54,46 +56,180 @@ LogFormat ParseFormat(const std::string& name) {
   return LogFormat::kAuto;
 }
 
-int Run(const RunOptions& options) {
-  std::unique_ptr<LogReader> reader;
-  std::unique_ptr<Estimator> estimator;
-  std::ofstream polygons;
-  Config config;
-  try {
-    LogOptions log_options;
-    log_options.format = ParseFormat(options.format);
-    reader = OpenLog(options.log, log_options);
-    config = LoadEngineConfig(options.engine, &reader->sensor());
-    MakeDirectories(options.out);
-    estimator = std::make_unique<Estimator>(config);
-    polygons.open(options.out + "/polygons.jsonl", std::ios::trunc);
-    if (!polygons) throw InputError(options.out + "/polygons.jsonl: cannot create");
-  } catch (const std::exception& e) {
-    std::cerr << "freespace run: " << e.what() << "\n";
-    return kExitSetup;
-  }
-  const SensorConfig& s = config.sensor;
-  std::cerr << "freespace run: " << options.log << ": " << s.layers << " layer(s), "
-            << s.min_angle_deg << " .. " << s.max_angle_deg << " deg at "
-            << s.angular_resolution_deg << " deg, no echo at >= " << s.max_range_m << " m; backend "
-            << estimator->backend_name() << "; map " << config.map.width_cells << " x "
-            << config.map.height_cells << " at " << config.map.resolution_m << " m\n";
+using Clock = std::chrono::steady_clock;
 
-  const bool tty = isatty(STDERR_FILENO);
-  Warnings warnings;
-  StageSeries times;
-  std::map<std::string, long> rejected;
+// What summary.json counts.
+struct RunTally {
   long scans_read = 0, processed = 0, no_update = 0, malformed = 0, resets = 0, jitter = 0;
   long invalid_range = 0, out_of_aperture = 0, bad_layer = 0, clutter = 0, virtual_points = 0;
   long points = 0, max_vertices = 0, vehicle_outside = 0;
   double vertex_sum = 0;
-  int exit_code = kExitOk;
-  Scan scan;
-  auto last_progress = std::chrono::steady_clock::now();
-  const auto started = last_progress;
   std::size_t snapshots = 0;
+  std::map<std::string, long> rejected;  // by reason
+  StageSeries times;
 
-  auto snapshot = [&](const Result& r) {
+  void AddPoints(const ScanStats& st) {
+    points += st.points;
+    invalid_range += st.invalid_range;
+    out_of_aperture += st.out_of_aperture;
+    bad_layer += st.bad_layer;
+    clutter += st.clutter;
+    virtual_points += st.virtual_points;
+  }
+  void AddProcessed(const Result& r) {
+    ++processed;
+    times.Add(r.times);
+    vertex_sum += double(r.polygon.size());
+    max_vertices = std::max<long>(max_vertices, long(r.polygon.size()));
+    vehicle_outside += r.polygon_contains_vehicle ? 0 : 1;
+  }
+  long Rejected() const {
+    long total = 0;
+    for (const auto& [reason, n] : rejected) total += n;
+    return total;
+  }
+};
+
+// One `freespace run`: the log, the estimator, and what they write.
+class LogRun {
+ public:
+  explicit LogRun(const RunOptions& options) : options_(options) {}
+
+  int Run() {
+    if (!Open()) return kExitSetup;
+    PrintSetup();
+    tty_ = isatty(STDERR_FILENO);
+    started_ = last_progress_ = Clock::now();
+    try {
+      const int code = ProcessLog();
+      if (code != kExitOk) return code;
+    } catch (const std::exception& e) {
+      std::cerr << "\nfreespace run: " << e.what() << "\n";
+      return kExitSetup;
+    }
+    polygons_.close();
+    WriteSummary();
+    return kExitOk;
+  }
+
+ private:
+  enum class Verdict { kKeep, kSkip, kStop };
+
+  // Opens the log, the config, the estimator and polygons.jsonl; false (printed) when one fails.
+  bool Open() {
+    try {
+      LogOptions log_options;
+      log_options.format = ParseFormat(options_.format);
+      reader_ = OpenLog(options_.log, log_options);
+      config_ = LoadEngineConfig(options_.engine, &reader_->sensor());
+      MakeDirectories(options_.out);
+      estimator_ = std::make_unique<Estimator>(config_);
+      polygons_.open(options_.out + "/polygons.jsonl", std::ios::trunc);
+      if (!polygons_) throw InputError(options_.out + "/polygons.jsonl: cannot create");
+    } catch (const std::exception& e) {
+      std::cerr << "freespace run: " << e.what() << "\n";
+      return false;
+    }
+    return true;
+  }
+
+  void PrintSetup() const {
+    const SensorConfig& s = config_.sensor;
+    std::cerr << "freespace run: " << options_.log << ": " << s.layers << " layer(s), "
+              << s.min_angle_deg << " .. " << s.max_angle_deg << " deg at "
+              << s.angular_resolution_deg << " deg, no echo at >= " << s.max_range_m
+              << " m; backend " << estimator_->backend_name() << "; map " << config_.map.width_cells
+              << " x " << config_.map.height_cells << " at " << config_.map.resolution_m << " m\n";
+  }
+
+  // Every scan of the log (up to --max-scans); kExitBadInput when --strict stops it.
+  int ProcessLog() {
+    Scan scan;
+    const Result* last = nullptr;
+    while (options_.max_scans <= 0 || tally_.scans_read < options_.max_scans) {
+      const bool more = reader_->Next(&scan);
+      if (ReportIssues()) return kExitBadInput;
+      if (!more) break;
+      ++tally_.scans_read;
+      const std::string where = reader_->path() + ":" + std::to_string(reader_->line());
+      const Result& r = estimator_->Process(scan);
+      const Verdict verdict = Check(r, scan, where);
+      if (verdict == Verdict::kStop) return kExitBadInput;
+      if (verdict == Verdict::kSkip) continue;
+      Keep(r);
+      last = &r;
+      PrintProgress();
+    }
+    // The last processed scan always gets a snapshot.
+    if (last != nullptr &&
+        (options_.snapshot_every <= 0 || (tally_.processed - 1) % options_.snapshot_every != 0)) {
+      Snapshot(*last);
+    }
+    return kExitOk;
+  }
+
+  // Under --strict: prints why the run stops and returns true.
+  bool StopsHere(const char* what) const {
+    if (!options_.strict) return false;
+    std::cerr << "freespace run: stopped (--strict) on " << what << "\n";
+    return true;
+  }
+
+  // The reader's malformed lines; true when --strict stops the run.
+  bool ReportIssues() {
+    for (const LogIssue& issue : reader_->TakeIssues()) {
+      ++tally_.malformed;
+      warnings_.Print("input", issue.ToString());
+      if (StopsHere("bad input")) return true;
+    }
+    return false;
+  }
+
+  // Counts and warns about what went wrong with one scan's input.
+  Verdict Check(const Result& r, const Scan& scan, const std::string& where) {
+    const ScanStats& st = r.stats;
+    tally_.AddPoints(st);
+    const std::string at = where + ": scan " + std::to_string(r.scan_index);
+    if (st.invalid_range + st.out_of_aperture + st.bad_layer > 0) {
+      warnings_.Print("points", at + ": " + std::to_string(st.invalid_range) +
+                                    " invalid range(s) used as no echo, " +
+                                    std::to_string(st.out_of_aperture) +
+                                    " angle(s) outside the aperture and " +
+                                    std::to_string(st.bad_layer) + " bad layer(s) dropped");
+      if (StopsHere("bad input")) return Verdict::kStop;
+    }
+    if (r.status == ScanStatus::kRejected) {
+      ++tally_.rejected[ToString(r.reject_reason)];
+      warnings_.Print(ToString(r.reject_reason), at + " skipped: " + r.message);
+      return StopsHere("bad input") ? Verdict::kStop : Verdict::kSkip;
+    }
+    if (r.status == ScanStatus::kNoSensorUpdate) {
+      ++tally_.no_update;
+      warnings_.Print("no_sensor_update", at + ": " + r.message);
+      if (scan.points.empty() && StopsHere("an empty scan")) return Verdict::kStop;
+    }
+    if (r.timestamp_jitter) {
+      ++tally_.jitter;
+      warnings_.Print("timestamp_jitter", at + ": " + r.message);
+      if (StopsHere("a timestamp going backwards")) return Verdict::kStop;
+    }
+    if (r.map_reset && tally_.processed > 0) {
+      ++tally_.resets;
+      warnings_.Print("reset", at + ": the map restarted here after repeated pose jumps");
+    }
+    return Verdict::kKeep;
+  }
+
+  // A processed scan: counted, its polygon line written, a snapshot every --snapshot-every.
+  void Keep(const Result& r) {
+    tally_.AddProcessed(r);
+    polygons_ << PolygonJsonLine(r.scan_index, r) << '\n';
+    if (options_.snapshot_every > 0 && (tally_.processed - 1) % options_.snapshot_every == 0) {
+      Snapshot(r);
+    }
+  }
+
+  void Snapshot(const Result& r) {
     char name[64];
     std::snprintf(name, sizeof name, "/snapshot_%06llu.png",
                   static_cast<unsigned long long>(r.scan_index));
@@ -103,149 +239,73 @@ int Run(const RunOptions& options) {
                   static_cast<unsigned long long>(r.scan_index), r.timestamp_s,
                   r.filtered_speed_mps, r.polygon.size());
     overlay.caption = caption;
-    WritePng(options.out + name, RenderSnapshot(estimator->map(), r, overlay));
-    ++snapshots;
-  };
-
-  const Result* last = nullptr;
-  try {
-    while (options.max_scans <= 0 || scans_read < options.max_scans) {
-      const bool more = reader->Next(&scan);
-      for (const LogIssue& issue : reader->TakeIssues()) {
-        ++malformed;
-        warnings.Print("input", issue.ToString());
-        if (options.strict) {
-          std::cerr << "freespace run: stopped (--strict) on bad input\n";
-          return kExitBadInput;
-        }
-      }
-      if (!more) break;
-      ++scans_read;
-      const std::string where = reader->path() + ":" + std::to_string(reader->line());
-      const Result& r = estimator->Process(scan);
-      const ScanStats& st = r.stats;
-      points += st.points;
-      invalid_range += st.invalid_range;
-      out_of_aperture += st.out_of_aperture;
-      bad_layer += st.bad_layer;
-      clutter += st.clutter;
-      virtual_points += st.virtual_points;
-      if (st.invalid_range + st.out_of_aperture + st.bad_layer > 0) {
-        warnings.Print("points", where + ": scan " + std::to_string(r.scan_index) + ": " +
-                                     std::to_string(st.invalid_range) +
-                                     " invalid range(s) used as no echo, " +
-                                     std::to_string(st.out_of_aperture) +
-                                     " angle(s) outside the aperture and " +
-                                     std::to_string(st.bad_layer) + " bad layer(s) dropped");
-        if (options.strict) {
-          std::cerr << "freespace run: stopped (--strict) on bad input\n";
-          return kExitBadInput;
-        }
-      }
-      if (r.status == ScanStatus::kRejected) {
-        ++rejected[ToString(r.reject_reason)];
-        warnings.Print(ToString(r.reject_reason),
-                       where + ": scan " + std::to_string(r.scan_index) + " skipped: " + r.message);
-        if (options.strict) {
-          std::cerr << "freespace run: stopped (--strict) on bad input\n";
-          return kExitBadInput;
-        }
-        continue;
-      }
-      if (r.status == ScanStatus::kNoSensorUpdate) {
-        ++no_update;
-        warnings.Print("no_sensor_update",
-                       where + ": scan " + std::to_string(r.scan_index) + ": " + r.message);
-        if (options.strict && scan.points.empty()) {
-          std::cerr << "freespace run: stopped (--strict) on an empty scan\n";
-          return kExitBadInput;
-        }
-      }
-      if (r.timestamp_jitter) {
-        ++jitter;
-        warnings.Print("timestamp_jitter",
-                       where + ": scan " + std::to_string(r.scan_index) + ": " + r.message);
-        if (options.strict) {
-          std::cerr << "freespace run: stopped (--strict) on a timestamp going backwards\n";
-          return kExitBadInput;
-        }
-      }
-      if (r.map_reset && processed > 0) {
-        ++resets;
-        warnings.Print("reset", where + ": scan " + std::to_string(r.scan_index) +
-                                    ": the map restarted here after repeated pose jumps");
-      }
-      ++processed;
-      times.Add(r.times);
-      vertex_sum += double(r.polygon.size());
-      max_vertices = std::max<long>(max_vertices, long(r.polygon.size()));
-      vehicle_outside += r.polygon_contains_vehicle ? 0 : 1;
-      polygons << PolygonJsonLine(r.scan_index, r) << '\n';
-      last = &r;
-      if (options.snapshot_every > 0 && (processed - 1) % options.snapshot_every == 0) snapshot(r);
-
-      const auto now = std::chrono::steady_clock::now();
-      if (!options.quiet && now - last_progress > std::chrono::seconds(tty ? 1 : 10)) {
-        last_progress = now;
-        char line[200];
-        std::snprintf(line, sizeof line,
-                      "%s%3.0f%%  scan %ld  processed %ld  skipped %ld  median %.3f ms/scan",
-                      tty ? "\r" : "", 100.0 * reader->progress(), scans_read, processed,
-                      scans_read - processed, times.MedianTotal() / 1000.0);
-        std::cerr << line << (tty ? "" : "\n") << std::flush;
-      }
-    }
-    if (last != nullptr &&
-        (options.snapshot_every <= 0 || (processed - 1) % options.snapshot_every != 0)) {
-      snapshot(*last);
-    }
-  } catch (const std::exception& e) {
-    std::cerr << "\nfreespace run: " << e.what() << "\n";
-    return kExitSetup;
+    WritePng(options_.out + name, RenderSnapshot(estimator_->map(), r, overlay));
+    ++tally_.snapshots;
   }
-  polygons.close();
 
-  long rejected_total = 0;
-  nlohmann::json rejected_json = nlohmann::json::object();
-  for (const auto& [reason, n] : rejected) {
-    rejected_json[reason] = n;
-    rejected_total += n;
+  // A progress line every second on a terminal, every 10 s otherwise.
+  void PrintProgress() {
+    const auto now = Clock::now();
+    if (options_.quiet || now - last_progress_ <= std::chrono::seconds(tty_ ? 1 : 10)) return;
+    last_progress_ = now;
+    char line[200];
+    std::snprintf(
+        line, sizeof line, "%s%3.0f%%  scan %ld  processed %ld  skipped %ld  median %.3f ms/scan",
+        tty_ ? "\r" : "", 100.0 * reader_->progress(), tally_.scans_read, tally_.processed,
+        tally_.scans_read - tally_.processed, tally_.times.MedianTotal() / 1000.0);
+    std::cerr << line << (tty_ ? "" : "\n") << std::flush;
   }
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  nlohmann::json summary = {
-      {"log", options.log},
-      {"backend", estimator->backend_name()},
-      {"scans_read", scans_read},
-      {"scans", processed},
-      {"skipped", rejected_total + malformed},
-      {"rejected", rejected_json},
-      {"malformed_lines", malformed},
-      {"no_sensor_update", no_update},
-      {"map_resets", resets},
-      {"timestamp_jitter", jitter},
-      {"points",
-       {{"total", points},
-        {"invalid_range", invalid_range},
-        {"out_of_aperture", out_of_aperture},
-        {"bad_layer", bad_layer},
-        {"clutter", clutter},
-        {"virtual", virtual_points}}},
-      {"polygon",
-       {{"max_vertices", max_vertices},
-        {"mean_vertices", processed ? vertex_sum / processed : 0.0},
-        {"vehicle_outside", vehicle_outside}}},
-      {"snapshots", snapshots},
-      {"wall_s", seconds},
-      {"stage_us", times.Summary()},
-  };
-  std::ofstream(options.out + "/summary.json") << summary.dump(2) << "\n";
-  std::cerr << (tty ? "\r" : "") << "freespace run: " << processed << " scans processed, "
-            << rejected_total + malformed << " skipped, median " << times.MedianTotal() / 1000.0
-            << " ms/scan; wrote " << options.out << "/polygons.jsonl, summary.json and "
-            << snapshots << " PNG(s)\n";
-  return exit_code;
-}
+
+  // summary.json, and the closing line on stderr.
+  void WriteSummary() const {
+    const RunTally& t = tally_;
+    nlohmann::json rejected = nlohmann::json::object();
+    for (const auto& [reason, n] : t.rejected) rejected[reason] = n;
+    const long skipped = t.Rejected() + t.malformed;
+    const double seconds = std::chrono::duration<double>(Clock::now() - started_).count();
+    const nlohmann::json summary = {
+        {"log", options_.log},
+        {"backend", estimator_->backend_name()},
+        {"scans_read", t.scans_read},
+        {"scans", t.processed},
+        {"skipped", skipped},
+        {"rejected", rejected},
+        {"malformed_lines", t.malformed},
+        {"no_sensor_update", t.no_update},
+        {"map_resets", t.resets},
+        {"timestamp_jitter", t.jitter},
+        {"points",
+         {{"total", t.points},
+          {"invalid_range", t.invalid_range},
+          {"out_of_aperture", t.out_of_aperture},
+          {"bad_layer", t.bad_layer},
+          {"clutter", t.clutter},
+          {"virtual", t.virtual_points}}},
+        {"polygon",
+         {{"max_vertices", t.max_vertices},
+          {"mean_vertices", t.processed ? t.vertex_sum / t.processed : 0.0},
+          {"vehicle_outside", t.vehicle_outside}}},
+        {"snapshots", t.snapshots},
+        {"wall_s", seconds},
+        {"stage_us", t.times.Summary()},
+    };
+    std::ofstream(options_.out + "/summary.json") << summary.dump(2) << "\n";
+    std::cerr << (tty_ ? "\r" : "") << "freespace run: " << t.processed << " scans processed, "
+              << skipped << " skipped, median " << t.times.MedianTotal() / 1000.0
+              << " ms/scan; wrote " << options_.out << "/polygons.jsonl, summary.json and "
+              << t.snapshots << " PNG(s)\n";
+  }
+
+  const RunOptions& options_;
+  std::unique_ptr<LogReader> reader_;
+  std::unique_ptr<Estimator> estimator_;
+  std::ofstream polygons_;
+  Config config_;
+  Warnings warnings_;
+  RunTally tally_;
+  bool tty_ = false;
+  Clock::time_point started_, last_progress_;
+};
 
 }  // namespace
 
@@ -277,7 +337,7 @@ Command AddRunCommand(CLI::App& app) {
                     "Stop with exit code 1 at the first bad input instead of skipping it");
   command->add_flag("--quiet", options->quiet, "No progress line");
   AddEngineOptions(command, &options->engine);
-  return {command, [options] { return Run(*options); }};
+  return {command, [options] { return LogRun(*options).Run(); }};
 }
 
 }  // namespace freespace::cli

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "engine_options.hpp"
 #include "freespace/errors.hpp"
 #include "sim_options.hpp"
 

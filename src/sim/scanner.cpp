@@ -18,6 +18,108 @@ void Require(bool ok, const char* field, double value, const char* rule) {
   }
 }
 
+// The tangents of each layer's vertical footprint edges at body pitch `pitch_deg`.
+void LayerSlopes(const ScannerConfig& c, double pitch_deg, double* lower, double* upper) {
+  for (int l = 0; l < c.layers; ++l) {
+    const double e = c.layer_elevation_deg(l) + pitch_deg;
+    lower[l] = std::tan((e - 0.5 * c.beam_height_deg) * kDegToRad);
+    upper[l] = std::tan((e + 0.5 * c.beam_height_deg) * kDegToRad);
+  }
+}
+
+// The first face along the beam whose height range meets the layer's footprint (edge slopes
+// `lower`, `upper`) above the road; null when none does.
+const RayHit* FirstFace(const std::vector<RayHit>& hits, const World& world, double height,
+                        double lower, double upper) {
+  for (const RayHit& h : hits) {
+    const Obstacle& o = world.obstacles[h.obstacle];
+    const double z_low = std::max(0.0, height + h.distance * lower);
+    const double z_high = height + h.distance * upper;
+    if (z_high >= 0.0 && z_low <= o.z_max_m && z_high >= o.z_min_m) return &h;
+  }
+  return nullptr;
+}
+
+// What one layer of one beam sees before range noise: its source and true range.
+struct Echo {
+  EchoSource source = EchoSource::kNoEchoRange;
+  double range = 0.0;
+};
+
+// The layer's echo along the beam whose faces are `hits`: a ground echo where the footprint
+// reaches the road first (the road swallows the beam beyond where it covers the footprint),
+// else the first face met unless it absorbs the beam or its echo is too weak; rain or dust
+// nearer than either replaces it.
+Echo LayerEcho(const ScannerConfig& c, const World& world, const std::vector<RayHit>& hits,
+               double lower, double upper, Rng& rng) {
+  const double height = c.mount_height_m;
+  const RayHit* hit = FirstFace(hits, world, height, lower, upper);
+  double end = hit != nullptr ? hit->distance : c.max_range_m;
+  // The road: the footprint's lower edge reaches it at `near`, the whole footprint at
+  // `far`; beyond `far` nothing else can be seen.
+  const double near = lower < 0.0 ? height / -lower : INFINITY;
+  const double far = upper < 0.0 ? height / -upper : INFINITY;
+  Echo echo;
+  if (near < end) {
+    const bool swallowed = far < end;
+    if (swallowed) {
+      end = far;
+      hit = nullptr;
+    }
+    if (rng.Bernoulli(c.ground_echo_probability)) {
+      // The echo comes from a random elevation within the footprint's part below -0.05 deg.
+      const double top = std::min(upper, std::tan(-0.05 * kDegToRad));
+      const double slope = top > lower ? rng.Uniform(lower, top) : lower;
+      const double r = height / -slope;
+      if (r < end) {
+        echo = {EchoSource::kGround, r};
+        hit = nullptr;
+      }
+    }
+  }
+  if (echo.source != EchoSource::kGround && hit != nullptr) {
+    const Obstacle& o = world.obstacles[hit->obstacle];
+    if (rng.Bernoulli(o.no_echo_probability)) {
+      echo.source = EchoSource::kNoEchoAbsorbed;
+    } else if (!rng.Bernoulli(
+                   c.DetectionProbability(o.reflectivity, hit->cos_incidence, hit->distance))) {
+      echo.source = EchoSource::kNoEchoWeak;
+    } else {
+      echo = {EchoSource::kObstacle, hit->distance};
+    }
+  }
+  if (rng.Bernoulli(c.rain_probability)) {
+    const double r = rng.Uniform(c.rain_min_range_m, c.rain_max_range_m);
+    const bool returned =
+        echo.source == EchoSource::kObstacle || echo.source == EchoSource::kGround;
+    if (r < (returned ? echo.range : end)) echo = {EchoSource::kRain, r};
+  }
+  return echo;
+}
+
+// The point the sensor reports for `echo` on layer `layer` at `deg`: range noise and
+// quantisation; a range outside the sensor's turns the echo into kNoEchoRange.
+ScanPoint Measure(const ScannerConfig& c, int layer, double deg, Echo* echo, Rng& rng) {
+  ScanPoint p;
+  p.layer = std::uint8_t(layer);
+  p.angle_rad = float(deg * kDegToRad);
+  p.echo = false;
+  if (echo->source == EchoSource::kObstacle || echo->source == EchoSource::kGround ||
+      echo->source == EchoSource::kRain) {
+    double r = echo->range + c.range_sigma_m * rng.Normal();
+    if (c.range_resolution_m > 0.0) {
+      r = std::round(r / c.range_resolution_m) * c.range_resolution_m;
+    }
+    if (r >= c.min_range_m && r < c.max_range_m) {
+      p.echo = true;
+      p.range_m = float(r);
+    } else {
+      echo->source = EchoSource::kNoEchoRange;
+    }
+  }
+  return p;
+}
+
 }  // namespace
 
 int ScannerConfig::beams() const {
@@ -95,13 +197,8 @@ void ScanSimulator::Simulate(double t, const Trajectory& trajectory, Scan* scan,
   pitch_deg_ = c.pitch_per_accel_deg * at_t.acceleration + unevenness_deg_;
 
   const int beams = c.beams();
-  const double height = c.mount_height_m;
   double lower[256], upper[256];
-  for (int l = 0; l < c.layers; ++l) {
-    const double e = c.layer_elevation_deg(l) + pitch_deg_;
-    lower[l] = std::tan((e - 0.5 * c.beam_height_deg) * kDegToRad);
-    upper[l] = std::tan((e + 0.5 * c.beam_height_deg) * kDegToRad);
-  }
+  LayerSlopes(c, pitch_deg_, lower, upper);
   const Pose2D mount = c.mount();
 
   scan->timestamp_s = t;
@@ -122,82 +219,9 @@ void ScanSimulator::Simulate(double t, const Trajectory& trajectory, Scan* scan,
     caster_.Cast(origin, dir, c.max_range_m, &hits_);
 
     for (int l = 0; l < c.layers; ++l) {
-      // The first face whose height range meets the layer's footprint above the road.
-      const RayHit* hit = nullptr;
-      for (const RayHit& h : hits_) {
-        const Obstacle& o = world_.obstacles[h.obstacle];
-        const double z_low = std::max(0.0, height + h.distance * lower[l]);
-        const double z_high = height + h.distance * upper[l];
-        if (z_high >= 0.0 && z_low <= o.z_max_m && z_high >= o.z_min_m) {
-          hit = &h;
-          break;
-        }
-      }
-      double end = hit != nullptr ? hit->distance : c.max_range_m;
-      // The road: the footprint's lower edge reaches it at `near`, the whole footprint at
-      // `far`; beyond `far` nothing else can be seen.
-      const double near = lower[l] < 0.0 ? height / -lower[l] : INFINITY;
-      const double far = upper[l] < 0.0 ? height / -upper[l] : INFINITY;
-      EchoSource source = EchoSource::kNoEchoRange;
-      double range = 0.0;
-      if (near < end) {
-        const bool swallowed = far < end;
-        if (swallowed) {
-          end = far;
-          hit = nullptr;
-        }
-        if (rng_.Bernoulli(c.ground_echo_probability)) {
-          // The echo comes from a random elevation within the footprint's part below -0.05 deg.
-          const double top = std::min(upper[l], std::tan(-0.05 * kDegToRad));
-          const double slope = top > lower[l] ? rng_.Uniform(lower[l], top) : lower[l];
-          const double r = height / -slope;
-          if (r < end) {
-            source = EchoSource::kGround;
-            range = r;
-            hit = nullptr;
-          }
-        }
-      }
-      if (source != EchoSource::kGround && hit != nullptr) {
-        const Obstacle& o = world_.obstacles[hit->obstacle];
-        if (rng_.Bernoulli(o.no_echo_probability)) {
-          source = EchoSource::kNoEchoAbsorbed;
-        } else if (!rng_.Bernoulli(
-                       c.DetectionProbability(o.reflectivity, hit->cos_incidence, hit->distance))) {
-          source = EchoSource::kNoEchoWeak;
-        } else {
-          source = EchoSource::kObstacle;
-          range = hit->distance;
-        }
-      }
-      if (rng_.Bernoulli(c.rain_probability)) {
-        const double r = rng_.Uniform(c.rain_min_range_m, c.rain_max_range_m);
-        const bool echo = source == EchoSource::kObstacle || source == EchoSource::kGround;
-        if (r < (echo ? range : end)) {
-          source = EchoSource::kRain;
-          range = r;
-        }
-      }
-
-      ScanPoint p;
-      p.layer = std::uint8_t(l);
-      p.angle_rad = float(deg * kDegToRad);
-      p.echo = false;
-      if (source == EchoSource::kObstacle || source == EchoSource::kGround ||
-          source == EchoSource::kRain) {
-        double r = range + c.range_sigma_m * rng_.Normal();
-        if (c.range_resolution_m > 0.0) {
-          r = std::round(r / c.range_resolution_m) * c.range_resolution_m;
-        }
-        if (r >= c.min_range_m && r < c.max_range_m) {
-          p.echo = true;
-          p.range_m = float(r);
-        } else {
-          source = EchoSource::kNoEchoRange;
-        }
-      }
-      scan->points.push_back(p);
-      if (sources != nullptr) sources->push_back(source);
+      Echo echo = LayerEcho(c, world_, hits_, lower[l], upper[l], rng_);
+      scan->points.push_back(Measure(c, l, deg, &echo, rng_));
+      if (sources != nullptr) sources->push_back(echo.source);
     }
   }
 }

@@ -1,0 +1,65 @@
+// The engine options of the commands and the config they make: see engine_options.hpp.
+#include "engine_options.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "freespace/errors.hpp"
+
+namespace freespace::cli {
+
+void AddEngineOptions(CLI::App* command, EngineOptions* options) {
+  command
+      ->add_option("--config", options->config_path,
+                   "YAML config (docs/configuration.md); missing fields keep their defaults")
+      ->check(CLI::ExistingFile);
+  command->add_option("--backend", options->backend, "Compute backend, overrides the config")
+      ->check(CLI::IsMember({"tbb", "opencl", "auto"}));
+  command
+      ->add_option("--threads", options->threads,
+                   "TBB worker threads (0 = all cores), overrides the config")
+      ->check(CLI::Range(0, 1024));
+  command
+      ->add_option("--opencl-wait", options->opencl_wait,
+                   "How the host waits for the OpenCL device, overrides the config")
+      ->check(CLI::IsMember({"auto", "block", "spin"}));
+  command
+      ->add_option("--opencl-devices", options->opencl_devices,
+                   "CPU devices to split the OpenCL kernels over, overrides the config "
+                   "(FREESPACE_OPENCL_DEVICES overrides both)")
+      ->check(CLI::Range(1, 16));
+}
+
+Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_sensor,
+                        const Config& base) {
+  Config config = base;
+  bool has_sensor = false;
+  if (!options.config_path.empty()) {
+    std::ifstream in(options.config_path);
+    if (!in) throw ConfigError("config: cannot open '" + options.config_path + "'");
+    std::stringstream text;
+    text << in.rdbuf();
+    config = Config::FromYaml(text.str(), options.config_path);
+    for (const std::string& s : YamlSections(text.str())) has_sensor |= (s == "sensor");
+  }
+  if (!has_sensor && log_sensor != nullptr) config.sensor = *log_sensor;
+  if (options.backend == "tbb") config.backend.kind = BackendKind::kTbb;
+  if (options.backend == "opencl") config.backend.kind = BackendKind::kOpenCl;
+  if (options.backend == "auto") config.backend.kind = BackendKind::kAuto;
+  if (options.threads >= 0) config.backend.threads = options.threads;
+  if (options.opencl_wait == "auto") config.backend.opencl_wait = OpenClWait::kAuto;
+  if (options.opencl_wait == "block") config.backend.opencl_wait = OpenClWait::kBlock;
+  if (options.opencl_wait == "spin") config.backend.opencl_wait = OpenClWait::kSpin;
+  if (options.opencl_devices > 0) config.backend.opencl_devices = options.opencl_devices;
+  config.Validate();
+  return config;
+}
+
+void MakeDirectories(const std::string& dir) {
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) throw InputError(dir + ": cannot create directory: " + error.message());
+}
+
+}  // namespace freespace::cli
