@@ -97,18 +97,19 @@ void RowMorphology(const std::uint64_t* x, int words, int h, bool erode, std::ui
   }
 }
 
-// Pass 1: strong (l <= t_low) and weak (l <= t_high) bits of a row.
-void LevelRow(const LogOdds* m, std::uint64_t* strong, std::uint64_t* weak, int width,
-              LogOdds t_low, LogOdds t_high) {
+// Pass 1: strong (l <= t_low), weak (l <= t_high) and occupied (l > 0) bits of a row.
+void LevelRow(const LogOdds* m, std::uint64_t* strong, std::uint64_t* weak, std::uint64_t* occupied,
+              int width, LogOdds t_low, LogOdds t_high) {
   const int words = (width + 63) / 64;
   for (int w = 0; w < words; ++w) {
     const int c0 = w * 64;
-    std::uint64_t s = 0, k = 0;
+    std::uint64_t s = 0, k = 0, o = 0;
     int c = c0;
 #if defined(__SSE2__)
     // 16 cells at a time: l <= t  <=>  t + 1 > l (thresholds are below 32767).
     const __m128i low = _mm_set1_epi16(std::int16_t(t_low + 1));
     const __m128i high = _mm_set1_epi16(std::int16_t(t_high + 1));
+    const __m128i zero = _mm_setzero_si128();
     for (; c + 16 <= std::min(c0 + 64, width); c += 16) {
       const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(m + c));
       const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(m + c + 8));
@@ -116,16 +117,21 @@ void LevelRow(const LogOdds* m, std::uint64_t* strong, std::uint64_t* weak, int 
           _mm_movemask_epi8(_mm_packs_epi16(_mm_cmpgt_epi16(low, a), _mm_cmpgt_epi16(low, b)));
       const int mk =
           _mm_movemask_epi8(_mm_packs_epi16(_mm_cmpgt_epi16(high, a), _mm_cmpgt_epi16(high, b)));
+      const int mo =
+          _mm_movemask_epi8(_mm_packs_epi16(_mm_cmpgt_epi16(a, zero), _mm_cmpgt_epi16(b, zero)));
       s |= std::uint64_t(std::uint16_t(ms)) << (c - c0);
       k |= std::uint64_t(std::uint16_t(mk)) << (c - c0);
+      o |= std::uint64_t(std::uint16_t(mo)) << (c - c0);
     }
 #endif
     for (; c < std::min(c0 + 64, width); ++c) {
       s |= std::uint64_t(m[c] <= t_low) << (c - c0);
       k |= std::uint64_t(m[c] <= t_high) << (c - c0);
+      o |= std::uint64_t(m[c] > 0) << (c - c0);
     }
     strong[w] = s;
     weak[w] = k;
+    occupied[w] = o;
   }
 }
 
@@ -165,14 +171,17 @@ void ErodeColumnsDilateRow(const std::uint64_t* rows, int words, int r, int heig
   out[words - 1] &= valid_last;  // nothing beyond the row's last cell
 }
 
-// Pass 4: column dilation of rows r - h .. r + h.
+// Pass 4: column dilation of rows r - h .. r + h, less the vetoed cells (null: none).
 void DilateColumnsRow(const std::uint64_t* rows, int words, int r, int height, int h,
-                      std::uint64_t* out) {
+                      const std::uint64_t* veto, std::uint64_t* out) {
   const int d0 = std::max(0, r - h), d1 = std::min(height - 1, r + h);
   std::copy(rows + std::size_t(d0) * words, rows + std::size_t(d0 + 1) * words, out);
   for (int d = d0 + 1; d <= d1; ++d) {
     const std::uint64_t* row = rows + std::size_t(d) * words;
     for (int w = 0; w < words; ++w) out[w] |= row[w];
+  }
+  if (veto != nullptr) {
+    for (int w = 0; w < words; ++w) out[w] &= ~veto[w];
   }
 }
 
@@ -187,6 +196,7 @@ void HostBackend::Classify() {
   const LogOdds* map = map_.data();
   std::uint64_t* strong = bits_strong_.data();
   std::uint64_t* weak = bits_weak_.data();
+  std::uint64_t* occupied = bits_occupied_.data();
   std::uint64_t* a = bits_a_.data();
   std::uint64_t* b = bits_b_.data();
   std::uint64_t* f = free_.data();
@@ -209,18 +219,31 @@ void HostBackend::Classify() {
     });
   };
   const RowSpan bits = set.Hull(bits_rows_);
-  rows(bits,
-       [=](int r) { LevelRow(map + r * w, strong + r * nw, weak + r * nw, width, t_low, t_high); });
+  rows(bits, [=](int r) {
+    LevelRow(map + r * w, strong + r * nw, weak + r * nw, occupied + r * nw, width, t_low, t_high);
+  });
   rows(bits, [=](int r) {
     HysteresisErodeRow(r > 0 ? strong + (r - 1) * nw : nullptr, strong + r * nw,
                        r + 1 < height ? strong + (r + 1) * nw : nullptr, weak + r * nw, a + r * nw,
                        words, h);
   });
   rows(bits, [=](int r) { ErodeColumnsDilateRow(a, words, r, height, h, valid_last, b + r * nw); });
-  rows(set_free.Hull(free_rows_),
-       [=](int r) { DilateColumnsRow(b, words, r, height, h, f + r * nw); });
+  const std::uint64_t* veto = params_.veto_echoes ? echo_.data() : nullptr;
+  rows(set_free.Hull(free_rows_), [=](int r) {
+    DilateColumnsRow(b, words, r, height, h, veto ? veto + r * nw : nullptr, f + r * nw);
+  });
   bits_rows_ = set;
   free_rows_ = set_free;
+}
+
+void HostBackend::SetEchoes(const std::int32_t* cells, int count) {
+  const int width = params_.width, nw = words();
+  // Each old echo's word to 0 clears every old bit (all of them are echoes).
+  for (const std::int32_t c : echo_cells_) echo_[std::size_t(c / width) * nw + (c % width) / 64] = 0;
+  echo_cells_.assign(cells, cells + count);
+  for (const std::int32_t c : echo_cells_) {
+    echo_[std::size_t(c / width) * nw + (c % width) / 64] |= std::uint64_t{1} << ((c % width) % 64);
+  }
 }
 
 }  // namespace freespace

@@ -21,7 +21,10 @@ HostBackend::HostBackend(const KernelParams& params, int threads)
       bits_weak_(bits_strong_.size(), 0),
       bits_a_(bits_strong_.size(), 0),
       bits_b_(bits_strong_.size(), 0),
-      free_(std::size_t(params.height) * ((params.width + 63) / 64), 0),
+      bits_occupied_(bits_strong_.size(), 0),
+      free_(bits_strong_.size(), 0),
+      echo_(bits_strong_.size(), 0),
+      mask_(bits_strong_.size(), 0),
       edge_seen_((cells() + 63) / 64, 0),
       stop_(BorderLabelCount(params.height, params.width), 0),
       delta_(cells(), 0) {
@@ -29,6 +32,7 @@ HostBackend::HostBackend(const KernelParams& params, int threads)
     throw BackendError("tbb backend: map of " + std::to_string(params.width) + " x " +
                        std::to_string(params.height) + " cells; each side must be 1 .. 8192");
   }
+  echo_cells_.reserve(16384);
   arena_.initialize();
 }
 
@@ -43,6 +47,18 @@ void HostBackend::ReadLogOdds(LogOdds* dst) { std::memcpy(dst, map_.data(), cell
 void HostBackend::WriteLogOdds(const LogOdds* src) {
   std::memcpy(map_.data(), src, cells() * 2);
   known_ = {0, params_.height};
+  // The occupied bits of stage 3b, which Classify() keeps for the maps it classifies.
+  const int width = params_.width, nw = words();
+  for (int r = 0; r < params_.height; ++r) {
+    for (int w = 0; w < nw; ++w) {
+      std::uint64_t bits = 0;
+      for (int c = w * 64; c < std::min(width, w * 64 + 64); ++c) {
+        bits |= std::uint64_t(src[std::size_t(r) * width + c] > 0) << (c - w * 64);
+      }
+      bits_occupied_[std::size_t(r) * nw + w] = bits;
+    }
+  }
+  bits_rows_ = {0, params_.height};
 }
 void HostBackend::ReadUpdateMask(std::uint8_t* dst) { std::memcpy(dst, update_.data(), cells()); }
 void HostBackend::WriteUpdateMask(const std::uint8_t* src) {
@@ -68,6 +84,11 @@ void HostBackend::ReadFree(std::uint8_t* dst) {
     }
     for (; c < width; ++c) out[c] = (bits[c / 64] >> (c % 64)) & 1;
   }
+}
+void HostBackend::ReadMaskBits(int row_begin, int row_end, std::uint64_t* dst) {
+  const std::size_t nw = std::size_t(words());
+  std::copy(mask_.begin() + std::ptrdiff_t(row_begin * nw), mask_.begin() + std::ptrdiff_t(row_end * nw),
+            dst + row_begin * nw);
 }
 void HostBackend::ReadRayDelta(std::int32_t* dst) {
   std::memcpy(dst, delta_.data(), cells() * sizeof(std::int32_t));

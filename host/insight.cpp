@@ -20,27 +20,6 @@
 namespace freespace {
 namespace {
 
-// The first cell u in [from, to] (from <= to: upwards; from > to: downwards) whose bit in
-// `line` is 0, or -1.
-int FirstNotFree(const std::uint64_t* line, int from, int to) {
-  if (from <= to) {
-    for (int w = from >> 6; w <= to >> 6; ++w) {
-      std::uint64_t hits = ~line[w];
-      if (w == from >> 6) hits &= ~std::uint64_t{0} << (from & 63);
-      if (w == to >> 6) hits &= ~std::uint64_t{0} >> (63 - (to & 63));
-      if (hits != 0) return w * 64 + __builtin_ctzll(hits);
-    }
-  } else {
-    for (int w = from >> 6; w >= to >> 6; --w) {
-      std::uint64_t hits = ~line[w];
-      if (w == from >> 6) hits &= ~std::uint64_t{0} >> (63 - (from & 63));
-      if (w == to >> 6) hits &= ~std::uint64_t{0} << (to & 63);
-      if (hits != 0) return w * 64 + 63 - __builtin_clzll(hits);
-    }
-  }
-  return -1;
-}
-
 // A shallow ray (dx >= dy > 0) a row at a time. Step k (0 .. dx) of the ray lies
 // floor((2 dy k + dx) / (2 dx)) rows off the start, so the cells of row offset m are the steps
 // K(m) = ceil(dx (2m - 1) / (2 dy)) to K(m + 1) - 1, and K(m + 1) - K(m) is q or q + 1 with
@@ -55,7 +34,7 @@ std::int32_t RunRay(const std::uint64_t* rows, int words, int width, int x0, int
   while (true) {
     const int k_end = std::min(k_next - 1, dx);
     if (k <= k_end) {
-      const int x = FirstNotFree(rows + std::size_t(y) * words, x0 + sx * k, x0 + sx * k_end);
+      const int x = FirstClearBit(rows + std::size_t(y) * words, x0 + sx * k, x0 + sx * k_end);
       if (x >= 0) return y * width + x;
     }
     if (k_end == dx) return y * width + x0 + sx * dx;
@@ -115,6 +94,28 @@ void HostBackend::InSight(CellIndex vehicle, std::vector<CellIndex>* edges) {
                           dy < 0 ? -dy : dy, dx < 0 ? -1 : 1, dy < 0 ? -1 : 1);
           }
         });
+  });
+  CollectEdges(stop, labels, width, edge_seen_.data(), edges);
+}
+
+void HostBackend::InSightExact(const SensorCell& sensor, std::vector<RayStop>* stops,
+                               std::vector<CellIndex>* edges) {
+  const int width = params_.width, height = params_.height, nw = words();
+  const int labels = BorderLabelCount(height, width);
+  stops->resize(std::size_t(labels));
+  const std::uint64_t* rows = mask_.data();
+  std::int32_t* stop = stop_.data();
+  RayStop* out = stops->data();
+  arena_.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, labels, 32),
+                      [&](const tbb::blocked_range<int>& range) {
+                        for (int l = range.begin(); l != range.end(); ++l) {
+                          const CellIndex target = BorderCell(l, height, width);
+                          out[l] = TraceExactRayRows(rows, nw, width, sensor, target.col,
+                                                     target.row);
+                          stop[l] = out[l].cell;
+                        }
+                      });
   });
   CollectEdges(stop, labels, width, edge_seen_.data(), edges);
 }

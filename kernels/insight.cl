@@ -141,3 +141,101 @@ __kernel void insight_claim(__global const ulong* free, __global int* stop, int 
     }
   }
 }
+
+// The exact rays of the conservative polygon (polygon.shape inside): TraceExactRayRows() of
+// src/core/include/core/exact_ray.hpp line for line, on the polygon mask (mask.cl) from the
+// sensor's fixed-point position. Stop kinds: 0 reached the border cell's centre, 1 entered a
+// blocked cell across x = line, 2 across y = line, 3 through a corner (x = line).
+#define EXACT_ONE (1 << FIXED_BITS)
+#define EXACT_HALF (1 << (FIXED_BITS - 1))
+
+bool ExactAllowed(__global const ulong* mask, int x, int y) {
+  return (mask[y * BIT_WORDS + (x >> 6)] >> (x & 63)) & 1;
+}
+
+int3 ExactCorner(__global const ulong* mask, int* cx, int* cy, int step_x, int step_y) {
+  const int edge_x = step_x > 0 ? *cx + 1 : *cx;
+  if (!ExactAllowed(mask, *cx + step_x, *cy + step_y)) {
+    return (int3)((*cy + step_y) * WIDTH + *cx + step_x, 3, edge_x);
+  }
+  if (!ExactAllowed(mask, *cx + step_x, *cy)) return (int3)(*cy * WIDTH + *cx + step_x, 3, edge_x);
+  if (!ExactAllowed(mask, *cx, *cy + step_y)) return (int3)((*cy + step_y) * WIDTH + *cx, 3, edge_x);
+  *cx += step_x;
+  *cy += step_y;
+  return (int3)(-1, 0, 0);
+}
+
+int3 ExactRay(__global const ulong* mask, int sx, int sy, int cx, int cy, int tc, int tr) {
+  const long dx = (long)tc * EXACT_ONE + EXACT_HALF - sx;
+  const long dy = (long)tr * EXACT_ONE + EXACT_HALF - sy;
+  const int step_x = dx > 0 ? 1 : (dx < 0 ? -1 : 0), step_y = dy > 0 ? 1 : (dy < 0 ? -1 : 0);
+  const long adx = dx < 0 ? -dx : dx, ady = dy < 0 ? -dy : dy;
+  if (step_y == 0 || step_x == 0) {
+    while (cx != tc || cy != tr) {
+      cx += step_x;
+      cy += step_y;
+      if (!ExactAllowed(mask, cx, cy)) {
+        if (step_y == 0) return (int3)(cy * WIDTH + cx, 1, step_x > 0 ? cx : cx + 1);
+        return (int3)(cy * WIDTH + cx, 2, step_y > 0 ? cy : cy + 1);
+      }
+    }
+    return (int3)(cy * WIDTH + cx, 0, 0);
+  }
+  const long nx = step_x > 0 ? (long)(cx + 1) * EXACT_ONE - sx : (long)sx - (long)cx * EXACT_ONE;
+  const long ny = step_y > 0 ? (long)(cy + 1) * EXACT_ONE - sy : (long)sy - (long)cy * EXACT_ONE;
+  const long a = (long)EXACT_ONE * adx, b = (long)EXACT_ONE * ady;
+  const long q = a / b, r = a % b;
+  long e = ny * adx - nx * ady;
+  if (q < 4) {
+    while (cx != tc || cy != tr) {
+      if (e > 0) {
+        cx += step_x;
+        e -= b;
+        if (!ExactAllowed(mask, cx, cy)) return (int3)(cy * WIDTH + cx, 1, step_x > 0 ? cx : cx + 1);
+      } else if (e < 0) {
+        cy += step_y;
+        e += a;
+        if (!ExactAllowed(mask, cx, cy)) return (int3)(cy * WIDTH + cx, 2, step_y > 0 ? cy : cy + 1);
+      } else {
+        const int3 stop = ExactCorner(mask, &cx, &cy, step_x, step_y);
+        if (stop.x >= 0) return stop;
+        e += a - b;
+      }
+    }
+    return (int3)(cy * WIDTH + cx, 0, 0);
+  }
+  long crossings = e > 0 ? (e + b - 1) / b : 0;
+  while (true) {
+    if (cy == tr) crossings = step_x > 0 ? tc - cx : cx - tc;
+    if (crossings > 0) {
+      const int to = cx + step_x * (int)crossings;
+      const int x = InsightFirstNotFree(mask + cy * BIT_WORDS, cx + step_x, to);
+      if (x >= 0) return (int3)(cy * WIDTH + x, 1, step_x > 0 ? x : x + 1);
+      cx = to;
+    }
+    if (cy == tr) return (int3)(cy * WIDTH + cx, 0, 0);
+    e -= crossings * b;
+    long carry;
+    if (e == 0) {
+      const int3 stop = ExactCorner(mask, &cx, &cy, step_x, step_y);
+      if (stop.x >= 0) return stop;
+      carry = b;
+    } else {
+      cy += step_y;
+      if (!ExactAllowed(mask, cx, cy)) return (int3)(cy * WIDTH + cx, 2, step_y > 0 ? cy : cy + 1);
+      carry = -e;
+    }
+    e = a - carry;
+    crossings = q + (r > carry ? 1 : (r - carry == -b ? -1 : 0));
+  }
+}
+
+// One work-item per label; stops[3 l .. 3 l + 2]: cell, kind, line.
+__kernel void insight_exact(__global const ulong* mask, __global int* stops, int sensor_x,
+                            int sensor_y, int sensor_col, int sensor_row) {
+  const int l = (int)get_global_id(0);
+  if (l >= INSIGHT_LABELS) return;
+  const int2 target = InsightBorderCell(l);
+  const int3 stop = ExactRay(mask, sensor_x, sensor_y, sensor_col, sensor_row, target.x, target.y);
+  vstore3(stop, l, stops);
+}

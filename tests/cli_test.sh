@@ -24,7 +24,10 @@ grep -q '"skipped": 0' "$out/intel/summary.json" || fail "summary skipped"
 grep -q '"timestamp_jitter": 4' "$out/intel/summary.json" || fail "summary timestamp_jitter"
 grep -q '"median"' "$out/intel/summary.json" || fail "summary stage_us"
 ls "$out"/intel/snapshot_*.png >/dev/null 2>&1 || fail "no PNG snapshots"
-head -1 "$out/intel/polygons.jsonl" | grep -q '"polygon":\[\[' || fail "polygon field"
+grep -q '"polygon_status":"ok","polygon":\[\[' "$out/intel/polygons.jsonl" || fail "polygon field"
+# The first scan: the opening (1.8 m) leaves nothing free around the sensor yet: no polygon.
+head -1 "$out/intel/polygons.jsonl" | grep -q '"polygon_status":"no_free_space","polygon":\[\]' \
+  || fail "first scan: an empty polygon with its status"
 grep -q "clock jitter" "$out/intel.err" || fail "backwards timestamps not reported"
 # A larger step back than alignment.time_jitter_s rejects the scan.
 printf 'alignment:\n  time_jitter_s: 0.1\n' >"$out/strict-clock.yaml"

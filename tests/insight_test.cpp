@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "core/exact_ray.hpp"
 #include "host/host_backend.hpp"
 #include "test_util.hpp"
 
@@ -176,6 +177,103 @@ TEST(RaySteps, ClosedFormIsExactUpTo46340Steps) {
             1, 0, 0, sx * dx, sy * dy);
         EXPECT_EQ(k, n);
       }
+    }
+  }
+}
+
+
+// The exact rays of the conservative polygon. TraceExactRayRows (the backends' way) gives the
+// stops of TraceExactRay (a cell at a time) on random masks, sensors on cell corners and edges
+// included, and every stop is where the straight ray first meets a blocked cell: the points
+// before it lie in allowed cells, a point just beyond it in the stop cell.
+TEST(ExactRays, RowsGiveTheStopsOfTheCellWalkAndStopWhereTheRayMeetsABlockedCell) {
+  std::mt19937 rng(3);
+  long rays = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int width = 1 + int(rng() % 120), height = 1 + int(rng() % 120);
+    const int words = (width + 63) / 64;
+    std::vector<std::uint64_t> bits(std::size_t(words) * height, 0);
+    std::bernoulli_distribution blocked((trial % 10) * 0.05);
+    for (int r = 0; r < height; ++r) {
+      for (int c = 0; c < width; ++c) {
+        if (!blocked(rng)) bits[std::size_t(r) * words + c / 64] |= std::uint64_t{1} << (c % 64);
+      }
+    }
+    const auto allowed = [&](int x, int y) {
+      return (bits[std::size_t(y) * words + (x >> 6)] >> (x & 63)) & 1;
+    };
+    SensorCell s;
+    s.x = int(rng() % (width * kFixedOne));
+    s.y = int(rng() % (height * kFixedOne));
+    if (trial % 3 == 0) s.x -= s.x % (kFixedOne / 2);  // on a cell edge or centre line
+    if (trial % 4 == 0) s.y -= s.y % kFixedOne;
+    s.cell = {s.y / kFixedOne, s.x / kFixedOne};
+    const Vec2 at(double(s.x) / kFixedOne, double(s.y) / kFixedOne);
+    for (int l = 0; l < BorderLabelCount(height, width); ++l) {
+      const CellIndex t = BorderCell(l, height, width);
+      const RayStop walk = TraceExactRay(allowed, width, s, t.col, t.row);
+      const RayStop rows = TraceExactRayRows(bits.data(), words, width, s, t.col, t.row);
+      ASSERT_EQ(rows.cell, walk.cell) << "trial " << trial << " label " << l;
+      ASSERT_EQ(rows.kind, walk.kind) << "trial " << trial << " label " << l;
+      ASSERT_EQ(rows.line, walk.line) << "trial " << trial << " label " << l;
+      const Vec2 end = RayStopPoint(s, t.col, t.row, walk), d = end - at;
+      for (int k = 1; k < 64; ++k) {  // inside cells, away from their edges
+        const Vec2 q = at + (k / 64.0) * d;
+        const double fx = q.x() - std::floor(q.x()), fy = q.y() - std::floor(q.y());
+        if (fx < 1e-9 || fx > 1 - 1e-9 || fy < 1e-9 || fy > 1 - 1e-9) continue;
+        const int qc = int(std::floor(q.x())), qr = int(std::floor(q.y()));
+        ASSERT_TRUE(allowed(qc, qr) || (qr == s.cell.row && qc == s.cell.col))
+            << "trial " << trial << " label " << l << " passes " << q.transpose();
+      }
+      if (walk.kind == kRayCrossX || walk.kind == kRayCrossY) {
+        const Vec2 beyond = end + 1e-6 * (Vec2(t.col + 0.5, t.row + 0.5) - at).normalized();
+        EXPECT_EQ(int(std::floor(beyond.y())) * width + int(std::floor(beyond.x())), walk.cell);
+      }
+      ++rays;
+    }
+  }
+  EXPECT_GT(rays, 20000);
+}
+
+// Both backends' exact rays on a mask made by stage 3b with no margin: the free mask plus the
+// sensor's cell, against TraceExactRay.
+TEST_P(InSightTest, ExactRaysMatchTheCellWalk) {
+  std::mt19937 rng(19);
+  for (int trial = 0; trial < 30; ++trial) {
+    const int width = 10 + int(rng() % 200), height = 10 + int(rng() % 150);
+    Config config = test::SmallConfig(width, height);
+    config.polygon.shape = PolygonShape::kInside;
+    const KernelParams p = MakeKernelParams(config);
+    FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), p);
+    std::vector<std::uint8_t> free(std::size_t(width) * height);
+    std::bernoulli_distribution open(0.8 + 0.02 * (trial % 10));
+    for (auto& f : free) f = open(rng);
+    const std::vector<LogOdds> unknown(free.size(), 0);
+    backend->WriteLogOdds(unknown.data());
+    backend->WriteFree(free.data());
+    backend->SetEchoes(nullptr, 0);
+    const SensorCell s = MakeSensorCell(
+        Vec2((rng() % (width * 4)) / 4.0, (rng() % (height * 4)) / 4.0), width, height);
+    free[std::size_t(s.cell.row) * width + s.cell.col] = 1;
+    backend->Mask(s);
+    std::vector<RayStop> stops;
+    std::vector<CellIndex> edges;
+    edges.reserve(BorderLabelCount(height, width));
+    backend->InSightExact(s, &stops, &edges);
+    ASSERT_EQ(int(stops.size()), BorderLabelCount(height, width));
+    const auto allowed = [&](int x, int y) { return free[std::size_t(y) * width + x] != 0; };
+    std::vector<std::int32_t> cells;
+    for (int l = 0; l < BorderLabelCount(height, width); ++l) {
+      const CellIndex t = BorderCell(l, height, width);
+      const RayStop want = TraceExactRay(allowed, width, s, t.col, t.row);
+      ASSERT_EQ(stops[l].cell, want.cell) << "trial " << trial << " label " << l;
+      ASSERT_EQ(stops[l].kind, want.kind) << "trial " << trial << " label " << l;
+      ASSERT_EQ(stops[l].line, want.line) << "trial " << trial << " label " << l;
+      if (std::find(cells.begin(), cells.end(), want.cell) == cells.end()) cells.push_back(want.cell);
+    }
+    ASSERT_EQ(edges.size(), cells.size());  // C_Edge: each stop cell once, by smallest label
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      EXPECT_EQ(edges[i].row * width + edges[i].col, cells[i]);
     }
   }
 }

@@ -1,13 +1,12 @@
 // Capped Douglas-Peucker (paper IV.B, Fig. 7): N and epsilon each bind, the most deviating
 // vertices are kept first, the result stays within its reported error, and it keeps the
-// vehicle inside. The conservative polygon (polygon.shape inside) on random free masks: it
-// covers free cells only, is star-shaped around the sensor, has at most N vertices, and on an
-// open map is the whole rectangle its border rays reach. Its safety margin on hand-made maps:
-// exactly the cells within k of an occupied cell in the cone, never the sensor's own.
+// vehicle inside. The conservative polygon (polygon.shape inside) from exact rays on random
+// masks: it covers mask cells only (and so does the ring it is simplified from), is star-shaped
+// around the sensor, has at most N distinct vertices, is empty when nothing around the sensor is
+// in the mask, and on an open map is the whole rectangle its border rays reach.
 #include <random>
 
 #include "core/inside_polygon.hpp"
-#include "core/margin.hpp"
 #include "core/simplifier.hpp"
 #include "geometry/geometry.hpp"
 #include "test_util.hpp"
@@ -110,8 +109,8 @@ TEST(Polygon, AtLeastThreeVerticesAndSmallRingsUnchanged) {
   EXPECT_EQ(kept.size(), 2u);
 }
 
-// A free mask (1 = free) of random rectangles and single cells that are not free, on an open
-// map; border cells stay free or not at random too.
+// A mask (1 = allowed) of random rectangles and single cells that are not, on an open map;
+// border cells stay allowed or not at random too.
 std::vector<std::uint8_t> RandomMask(int width, int height, std::mt19937* rng) {
   std::vector<std::uint8_t> free(std::size_t(width) * height, 1);
   std::uniform_int_distribution<int> col(0, width - 1), row(0, height - 1), size(1, 4),
@@ -126,7 +125,7 @@ std::vector<std::uint8_t> RandomMask(int width, int height, std::mt19937* rng) {
   return free;
 }
 
-// Area of `polygon` on cells that are not free (cells^2).
+// Area of `polygon` on cells that are not allowed (cells^2).
 double AreaOnNotFree(const std::vector<Vec2>& polygon, const std::vector<std::uint8_t>& free,
                      int width, int height) {
   double area = 0.0;
@@ -152,64 +151,93 @@ void ExpectStarShaped(const std::vector<Vec2>& polygon, const Vec2& sensor) {
   EXPECT_LE(turned, 2 * M_PI + 1e-9);
 }
 
-TEST(InsidePolygon, CoversFreeCellsOnlyOnRandomMasks) {
+// The conservative polygon on a byte mask: the mask as bitset rows (the sensor's own cell
+// allowed, as stage 3b makes it), the exact rays, the builder.
+struct Inside {
+  int width, height;
+  std::vector<std::uint64_t> bits;
+  SensorCell sensor;
+  std::vector<RayStop> stops;
+  InsidePolygonBuilder builder;
+  std::vector<Vec2> polygon;
+  bool built = false;
+
+  Inside(const std::vector<std::uint8_t>& mask, int w, int h, const Vec2& at, int n, double eps)
+      : width(w),
+        height(h),
+        bits(std::size_t((w + 63) / 64) * h, 0),
+        sensor(MakeSensorCell(at, w, h)),
+        builder(w, h, n, eps) {
+    const int words = (w + 63) / 64;
+    for (int r = 0; r < h; ++r) {
+      for (int c = 0; c < w; ++c) {
+        const bool own = r == sensor.cell.row && c == sensor.cell.col;
+        if (mask[std::size_t(r) * w + c] || own) {
+          bits[std::size_t(r) * words + c / 64] |= std::uint64_t{1} << (c % 64);
+        }
+      }
+    }
+    for (int l = 0; l < BorderLabelCount(h, w); ++l) {
+      const CellIndex t = BorderCell(l, h, w);
+      stops.push_back(TraceExactRayRows(bits.data(), words, w, sensor, t.col, t.row));
+    }
+    double error = 0.0;
+    built = builder.Build({w, h, words, bits.data()}, sensor, stops, &polygon, &error);
+  }
+  Vec2 at() const { return Vec2(double(sensor.x) / kFixedOne, double(sensor.y) / kFixedOne); }
+};
+
+TEST(InsidePolygon, CoversMaskCellsOnlyOnRandomMasks) {
   std::mt19937 rng(7);
   int checked = 0;
   for (int trial = 0; trial < 300; ++trial) {
     const int width = 12 + int(rng() % 40), height = 12 + int(rng() % 40);
-    const std::vector<std::uint8_t> free = RandomMask(width, height, &rng);
+    std::vector<std::uint8_t> mask = RandomMask(width, height, &rng);
     // The sensor anywhere in the map; every fourth time on a cell corner or edge exactly.
     std::uniform_real_distribution<double> x(1.0, width - 1.0), y(1.0, height - 1.0);
-    Vec2 sensor(x(rng), y(rng));
-    if (trial % 4 == 0) sensor = Vec2(std::round(sensor.x()), std::round(sensor.y()));
-    if (trial % 4 == 1) sensor.x() = std::round(sensor.x());
+    Vec2 at(x(rng), y(rng));
+    if (trial % 4 == 0) at = Vec2(std::round(at.x()), std::round(at.y()));
+    if (trial % 4 == 1) at.x() = std::round(at.x());
     const int n = std::vector<int>{3, 5, 8, 32, 4096}[trial % 5];
     const double epsilon = trial % 3 == 0 ? 0.0 : 1.0;
-    InsidePolygonBuilder builder(width, height, n, epsilon);
-    std::vector<Vec2> polygon;
-    builder.Build(free.data(), sensor, &polygon);
+    const Inside in(mask, width, height, at, n, epsilon);
+    mask[std::size_t(in.sensor.cell.row) * width + in.sensor.cell.col] = 1;
     const std::string where = "trial " + std::to_string(trial);
-    ASSERT_GE(polygon.size(), 3u) << where;
-    ASSERT_LE(int(polygon.size()), n) << where;
-    EXPECT_LE(AreaOnNotFree(polygon, free, width, height), 1e-6) << where;
-    ExpectStarShaped(polygon, sensor);
-    // The traced rays of the unsimplified ring never pass through a not-free cell's inside.
-    for (const Vec2& v : builder.ring()) {
-      for (int k = 1; k < 200; ++k) {
-        const Vec2 q = sensor + (k / 200.0) * (v - sensor);
-        const double fx = q.x() - std::floor(q.x()), fy = q.y() - std::floor(q.y());
-        if (fx < 1e-9 || fx > 1 - 1e-9 || fy < 1e-9 || fy > 1 - 1e-9) continue;
-        ASSERT_TRUE(free[std::size_t(std::floor(q.y())) * width + int(std::floor(q.x()))])
-            << where << ": ray to " << v.transpose() << " passes " << q.transpose();
-      }
+    // The ring, whose fan triangles the simplified polygon keeps inside, covers mask cells only.
+    if (in.built) {
+      EXPECT_LE(AreaOnNotFree(in.builder.ring(), mask, width, height), 1e-6) << where;
     }
-    const int sc = int(std::floor(sensor.x())), sr = int(std::floor(sensor.y()));
-    if (!free[std::size_t(sr) * width + sc]) {
-      // No free cell holds the sensor: the polygon is the sensor point.
-      for (const Vec2& v : polygon) EXPECT_EQ(v, sensor) << where;
-    } else {
-      ++checked;
+    if (!in.built) {
+      EXPECT_TRUE(in.polygon.empty()) << where;
+      continue;
     }
+    ASSERT_GE(in.polygon.size(), 3u) << where;
+    ASSERT_LE(int(in.polygon.size()), n) << where;
+    for (std::size_t k = 0; k < in.polygon.size(); ++k) {
+      EXPECT_GT((in.polygon[k] - in.polygon[(k + 1) % in.polygon.size()]).norm(), 0.0) << where;
+    }
+    EXPECT_LE(AreaOnNotFree(in.polygon, mask, width, height), 1e-6) << where;
+    ExpectStarShaped(in.polygon, in.at());
+    ++checked;
   }
   EXPECT_GT(checked, 200);
 }
 
 TEST(InsidePolygon, OpenMapGivesTheBorderCentresRectangle) {
-  // Everything free: each border ray reaches its cell's centre, Douglas-Peucker keeps the four
-  // corners, nothing is pulled in: the rectangle of the border cells' centres.
+  // Everything allowed: each border ray reaches its cell's centre, Douglas-Peucker keeps the
+  // four corners, nothing is pulled in: the rectangle of the border cells' centres.
   const int width = 30, height = 20;
   const std::vector<std::uint8_t> free(std::size_t(width) * height, 1);
   for (const Vec2& sensor : {Vec2(7.3, 11.9), Vec2(15, 10), Vec2(1.2, 18.7)}) {
-    InsidePolygonBuilder builder(width, height, 32, 0.0);
-    std::vector<Vec2> polygon;
-    EXPECT_EQ(builder.Build(free.data(), sensor, &polygon), 0.0);
-    EXPECT_NEAR(std::abs(geometry::SignedArea(polygon)), (width - 1.0) * (height - 1.0), 1e-9);
-    EXPECT_TRUE(PointInPolygon(polygon, sensor));
+    const Inside in(free, width, height, sensor, 32, 0.0);
+    ASSERT_TRUE(in.built);
+    EXPECT_NEAR(std::abs(geometry::SignedArea(in.polygon)), (width - 1.0) * (height - 1.0), 1e-9);
+    EXPECT_TRUE(PointInPolygon(in.polygon, in.at()));
   }
 }
 
 TEST(InsidePolygon, PullsACappedEdgeInFrontOfTheObstacleItCuts) {
-  // One not-free cell (10, 10) in an open 21 x 21 map, the sensor at (10.5, 5.5) south of it.
+  // One blocked cell (10, 10) in an open 21 x 21 map, the sensor at (10.5, 5.5) south of it.
   // The rays north stop at the cell's south face y = 10; with N = 4 the simplified polygon
   // cannot follow the notch, and the edge across it is pulled in to y <= 10 there.
   const int size = 21;
@@ -217,9 +245,9 @@ TEST(InsidePolygon, PullsACappedEdgeInFrontOfTheObstacleItCuts) {
   free[10 * size + 10] = 0;
   const Vec2 sensor(10.5, 5.5);
   for (const int n : {4, 8, 4096}) {
-    InsidePolygonBuilder builder(size, size, n, 0.0);
-    std::vector<Vec2> polygon;
-    builder.Build(free.data(), sensor, &polygon);
+    const Inside in(free, size, size, sensor, n, 0.0);
+    ASSERT_TRUE(in.built);
+    const std::vector<Vec2>& polygon = in.polygon;
     EXPECT_LE(AreaOnNotFree(polygon, free, size, size), 1e-9) << "N " << n;
     EXPECT_TRUE(PointInPolygon(polygon, sensor));
     EXPECT_LE(int(polygon.size()), n);
@@ -238,165 +266,40 @@ TEST(InsidePolygon, PullsACappedEdgeInFrontOfTheObstacleItCuts) {
   }
 }
 
-// A hand-made map as rows of text, the top line the northern row: '.' free, '#' occupied
-// (log-odds above 0, not free), 'o' the sensor's cell (free), 'x' free but expected to be kept
-// out by the margin. Fills the free mask (with 'x' free), the log-odds and the expected mask.
-struct TextMap {
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> free, expected;
-  std::vector<LogOdds> log_odds;
-  Vec2 sensor;
-  explicit TextMap(const std::vector<std::string>& rows) {
-    height = int(rows.size());
-    width = int(rows[0].size());
-    free.assign(std::size_t(width) * height, 1);
-    expected = free;
-    log_odds.assign(free.size(), LogOdds{-100});
-    for (int r = 0; r < height; ++r) {
-      for (int c = 0; c < width; ++c) {
-        const char t = rows[height - 1 - r][c];
-        const std::size_t i = std::size_t(r) * width + c;
-        if (t == '#') free[i] = expected[i] = 0, log_odds[i] = 100;
-        if (t == 'x') expected[i] = 0;
-        if (t == 'o') sensor = Vec2(c + 0.5, r + 0.5);
-      }
-    }
+TEST(InsidePolygon, NothingAroundTheSensorGivesNoPolygon) {
+  // The sensor's cell boxed in by blocked cells: every ray ends on its own cell's edge, and
+  // the polygon is empty, not a ring of repeated points. One free neighbour is enough.
+  const int size = 9;
+  std::vector<std::uint8_t> mask(std::size_t(size) * size, 1);
+  for (int r = 3; r <= 5; ++r) {
+    for (int c = 3; c <= 5; ++c) mask[std::size_t(r) * size + c] = 0;
   }
-};
-
-TEST(PolygonMargin, KeepsOutTheCellsInFrontOfAWallAsTheSensorSeesIt) {
-  // A wall three rows north of the sensor: with a 60 deg cone the cells in front of it go;
-  // those beside its ends (which see it at 90 deg or more) and those behind it stay.
-  TextMap cone({
-      ".........",
-      "..#####..",
-      "..xxxxx..",
-      ".........",
-      ".........",
-      "....o....",
-  });
-  std::vector<std::uint8_t> free = cone.free;
-  PolygonMargin(cone.width, cone.height, 1, 60.0)
-      .Apply(cone.log_odds.data(), cone.sensor, free.data());
-  EXPECT_EQ(free, cone.expected);
-  // All around (180 deg): every free cell within one cell of the wall.
-  TextMap all({
-      ".xxxxxxx.",
-      ".x#####x.",
-      ".xxxxxxx.",
-      ".........",
-      ".........",
-      "....o....",
-  });
-  free = all.free;
-  PolygonMargin(all.width, all.height, 1, 180.0)
-      .Apply(all.log_odds.data(), all.sensor, free.data());
-  EXPECT_EQ(free, all.expected);
-  // Two cells, 60 deg: the second row in front too; the cells diagonally beyond the wall's
-  // ends still see it at more than 60 deg.
-  TextMap two({
-      ".........",
-      "..#####..",
-      "..xxxxx..",
-      "..xxxxx..",
-      ".........",
-      "....o....",
-  });
-  free = two.free;
-  PolygonMargin(two.width, two.height, 2, 60.0).Apply(two.log_odds.data(), two.sensor, free.data());
-  EXPECT_EQ(free, two.expected);
+  for (const Vec2& at : {Vec2(4.5, 4.5), Vec2(4.0, 4.0), Vec2(4.9, 4.1)}) {
+    const Inside boxed(mask, size, size, at, 32, 0.0);
+    EXPECT_FALSE(boxed.built);
+    EXPECT_TRUE(boxed.polygon.empty());
+  }
+  std::vector<std::uint8_t> open = mask;
+  open[4 * size + 5] = 1;
+  open[4 * size + 4] = 1;  // the sensor's own cell is in the mask
+  const Inside one(open, size, size, Vec2(4.5, 4.5), 32, 0.0);
+  EXPECT_TRUE(one.built);
+  EXPECT_GT(std::abs(geometry::SignedArea(one.polygon)), 1.0);
+  EXPECT_LE(AreaOnNotFree(one.polygon, open, size, size), 1e-9);
 }
 
-TEST(PolygonMargin, TheSensorsOwnCellStaysAndThePolygonHoldsTheVehicle) {
-  // An occupied cell right next to the sensor: its own cell stays free, the polygon is not
-  // empty and contains the sensor.
-  TextMap map({
-      "..........",
-      "..........",
-      ".....#....",
-      "....o.....",
-      "..........",
-  });
-  for (const double cone : {60.0, 180.0}) {
-    std::vector<std::uint8_t> free = map.free;
-    PolygonMargin(map.width, map.height, 1, cone)
-        .Apply(map.log_odds.data(), map.sensor, free.data());
-    const std::size_t own = std::size_t(std::floor(map.sensor.y())) * map.width +
-                            std::size_t(std::floor(map.sensor.x()));
-    EXPECT_TRUE(free[own]) << "cone " << cone;
-    InsidePolygonBuilder builder(map.width, map.height, 32, 0.0);
-    std::vector<Vec2> polygon;
-    builder.Build(free.data(), map.sensor, &polygon);
-    EXPECT_TRUE(PointInPolygon(polygon, map.sensor)) << "cone " << cone;
-    EXPECT_GT(std::abs(geometry::SignedArea(polygon)), 1.0) << "cone " << cone;
-    EXPECT_LE(AreaOnNotFree(polygon, free, map.width, map.height), 1e-9) << "cone " << cone;
-  }
-}
-
-TEST(PolygonMargin, PolygonCoversNoFreeCellWithinTheMarginOfAnOccupiedCell) {
-  // Random maps, every not-free cell occupied: with the margin all around, the polygon has no
-  // area on any cell within k cells of an occupied one (but the sensor's own); the cells the
-  // margin keeps out are exactly those.
-  std::mt19937 rng(11);
-  int checked = 0;
-  for (int trial = 0; trial < 120; ++trial) {
-    const int width = 16 + int(rng() % 30), height = 16 + int(rng() % 30);
-    const std::vector<std::uint8_t> mask = RandomMask(width, height, &rng);
-    std::vector<LogOdds> log_odds(mask.size());
-    for (std::size_t i = 0; i < mask.size(); ++i) log_odds[i] = mask[i] ? -50 : 50;
-    std::uniform_real_distribution<double> x(1.0, width - 1.0), y(1.0, height - 1.0);
-    const Vec2 sensor(x(rng), y(rng));
-    const int sc = int(std::floor(sensor.x())), sr = int(std::floor(sensor.y()));
-    const int k = 1 + trial % 3;
-    std::vector<std::uint8_t> free = mask;
-    PolygonMargin(width, height, k, 180.0).Apply(log_odds.data(), sensor, free.data());
-    std::vector<std::uint8_t> near(mask.size(), 0);  // within k of an occupied cell
-    for (int r = 0; r < height; ++r) {
-      for (int c = 0; c < width; ++c) {
-        for (int dr = -k; dr <= k; ++dr) {
-          for (int dc = -k; dc <= k; ++dc) {
-            const int rr = r + dr, cc = c + dc;
-            if (rr >= 0 && cc >= 0 && rr < height && cc < width &&
-                log_odds[std::size_t(rr) * width + cc] > 0) {
-              near[std::size_t(r) * width + c] = 1;
-            }
-          }
-        }
-      }
-    }
-    const std::string where = "trial " + std::to_string(trial);
-    for (int r = 0; r < height; ++r) {
-      for (int c = 0; c < width; ++c) {
-        const std::size_t i = std::size_t(r) * width + c;
-        const bool own = r == sr && c == sc;
-        ASSERT_EQ(free[i], mask[i] && (!near[i] || own)) << where << " cell " << r << "," << c;
-      }
-    }
-    if (!free[std::size_t(sr) * width + sc]) continue;
-    InsidePolygonBuilder builder(width, height, std::vector<int>{8, 32, 4096}[trial % 3], 0.5);
-    std::vector<Vec2> polygon;
-    builder.Build(free.data(), sensor, &polygon);
-    std::vector<std::uint8_t> allowed(mask.size());
-    for (std::size_t i = 0; i < mask.size(); ++i) allowed[i] = mask[i] && !near[i];
-    allowed[std::size_t(sr) * width + sc] = 1;
-    EXPECT_LE(AreaOnNotFree(polygon, allowed, width, height), 1e-6) << where;
-    EXPECT_TRUE(PointInPolygon(polygon, sensor)) << where;
-    ++checked;
-  }
-  EXPECT_GT(checked, 60);
-}
-
-TEST(PolygonMargin, NothingOccupiedNothingKeptOut) {
-  // Not-free cells that the map does not hold occupied (unknown, or free evidence the
-  // hysteresis or the opening left out) give no margin.
-  std::mt19937 rng(5);
-  const int width = 40, height = 30;
-  const std::vector<std::uint8_t> mask = RandomMask(width, height, &rng);
-  std::vector<LogOdds> log_odds(mask.size());
-  for (std::size_t i = 0; i < mask.size(); ++i) log_odds[i] = mask[i] ? -50 : (i % 2 ? 0 : -5);
-  std::vector<std::uint8_t> free = mask;
-  PolygonMargin(width, height, 3, 180.0).Apply(log_odds.data(), Vec2(20.5, 15.5), free.data());
-  EXPECT_EQ(free, mask);
+TEST(InsidePolygon, NoRayThroughCellsThatMeetAtACorner) {
+  // Two blocked cells meeting at a corner, the sensor on their diagonal: the rays through the
+  // corner stop there, and no part of the polygon lies beyond the pair.
+  const int size = 15;
+  std::vector<std::uint8_t> mask(std::size_t(size) * size, 1);
+  mask[std::size_t(8) * size + 7] = 0;
+  mask[std::size_t(7) * size + 8] = 0;
+  const Inside in(mask, size, size, Vec2(4.5, 4.5), 4096, 0.0);
+  ASSERT_TRUE(in.built);
+  EXPECT_LE(AreaOnNotFree(in.polygon, mask, size, size), 1e-9);
+  EXPECT_FALSE(PointInPolygon(in.polygon, Vec2(8.5, 8.5)));
+  EXPECT_FALSE(PointInPolygon(in.polygon, Vec2(10.2, 10.4)));
 }
 
 }  // namespace

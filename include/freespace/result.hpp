@@ -25,6 +25,13 @@ enum class RejectReason {
   kPoseJump,  // moved farther than max_speed_mps * dt + jump_slack_m since the last scan
 };
 
+// What became of the free-space polygon of a scan.
+enum class PolygonStatus {
+  kOk,           // the polygon holds the free space around the sensor
+  kNoFreeSpace,  // nothing around the sensor is free (yet): the polygon is empty
+  kNone,         // the scan was rejected: no polygon
+};
+
 // What preprocessing saw and did, in points (beams) of this scan.
 struct ScanStats {
   int points = 0;           // beams in the scan
@@ -48,6 +55,7 @@ struct StageTimes {
   double rasterize_us = 0;   // kernel stage 1
   double fuse_us = 0;        // kernel stage 2 (OpenCL: with stage 1's row pass and the shift)
   double classify_us = 0;    // kernel stage 3: hysteresis + opening
+  double mask_us = 0;        // kernel stage 3b (polygon.shape inside): the polygon mask
   double insight_us = 0;     // kernel stage 4: border rays, C_Edge
   double polygon_us = 0;     // capped Douglas-Peucker, world coordinates
   double total_us = 0;
@@ -77,12 +85,14 @@ struct Result {
   double circle_radius_m = 0.0;
   Vec2 circle_centre_cells;  // centre of the vehicle position circle, cells
 
-  // The free-space polygon, counter-clockwise, at most polygon.max_vertices vertices, in world
-  // metres and in map cells (continuous: cell (r, c) spans [c, c+1) x [r, r+1)).
+  // The free-space polygon, counter-clockwise, at least three and at most
+  // polygon.max_vertices distinct vertices, in world metres and in map cells (continuous: cell
+  // (r, c) spans [c, c+1) x [r, r+1)); empty unless polygon_status is kOk.
+  PolygonStatus polygon_status = PolygonStatus::kNone;
   std::vector<Vec2> polygon;
   std::vector<Vec2> polygon_cells;
   // C_Edge: the in-sight edge cells in label order (with polygon.shape paper, the unsimplified
-  // polygon's vertices).
+  // polygon's vertices; with inside, the cells where the exact rays stopped).
   std::vector<CellIndex> edge_cells;
   double simplification_error_m = 0.0;  // largest distance of a dropped ring vertex
   bool polygon_contains_vehicle = false;
@@ -107,5 +117,6 @@ struct MapView {
 
 const char* ToString(ScanStatus status);
 const char* ToString(RejectReason reason);
+const char* ToString(PolygonStatus status);
 
 }  // namespace freespace

@@ -18,6 +18,7 @@
 #include "output/render.hpp"
 #include "output/report.hpp"
 #include "quality_report.hpp"
+#include "seed_runs.hpp"
 #include "sim_options.hpp"
 
 namespace freespace::cli {
@@ -37,6 +38,7 @@ struct DemoOptions {
   bool no_video = false;
   bool quiet = false;
   EngineOptions engine;
+  SeedOptions seeds;
 };
 
 // Median of a series of microsecond timings, in milliseconds.
@@ -75,6 +77,18 @@ class DemoRun {
     }
     return Report();
   }
+
+  // The drive's scores and times, after Run().
+  DriveEvaluation Evaluation() const {
+    DriveEvaluation d;
+    d.scenario = simulation_->scenario().name;
+    d.seed = options_.sim.seed;
+    d.metrics = metrics_;
+    d.times = times_;
+    d.rejected = rejected_;
+    return d;
+  }
+  const Config& config() const { return config_; }
 
  private:
   // Opens the drive, its writer, the config, the estimator and polygons.jsonl, and writes
@@ -262,6 +276,49 @@ class DemoRun {
   Clock::time_point started_, last_progress_;
 };
 
+// --seeds: one demo per (scenario, seed) in OUT/<scenario>-<seed>/ (no video, the last
+// snapshot), then the table over seeds and OUT/seeds.json.
+int DemoSeeds(const DemoOptions& options) {
+  std::vector<std::uint64_t> seeds;
+  std::vector<std::string> scenarios;
+  try {
+    seeds = ParseSeeds(options.seeds.seeds);
+    scenarios = ParseScenarios(options.seeds.scenarios, options.sim.scenario);
+    MakeDirectories(options.out);
+  } catch (const std::exception& e) {
+    std::cerr << "freespace demo: " << e.what() << "\n";
+    return kExitSetup;
+  }
+  std::vector<DriveEvaluation> drives;
+  Config config;
+  for (const std::string& scenario : scenarios) {
+    for (const std::uint64_t seed : seeds) {
+      DemoOptions one = options;
+      one.sim.scenario = scenario;
+      one.sim.seed = seed;
+      one.out = options.out + "/" + scenario + "-" + std::to_string(seed);
+      one.no_video = true;
+      one.snapshot_every = 0;
+      DemoRun run(one);
+      if (const int code = run.Run(); code != kExitOk) return code;
+      drives.push_back(run.Evaluation());
+      config = run.config();
+    }
+  }
+  const nlohmann::json summary = SeedSummary(drives);
+  try {
+    WriteSeeds(options.out + "/seeds.json", config, summary);
+  } catch (const std::exception& e) {
+    std::cerr << "freespace demo: " << e.what() << "\n";
+    return kExitSetup;
+  }
+  std::cout << "freespace demo: quality over " << drives.size()
+            << " drives (docs/metrics.md, means over seeds, worst seed in brackets):\n";
+  PrintSeedTable(std::cout, summary);
+  std::cout << "freespace demo: wrote " << options.out << "/seeds.json\n";
+  return kExitOk;
+}
+
 }  // namespace
 
 Command AddDemoCommand(CLI::App& app) {
@@ -274,7 +331,9 @@ Command AddDemoCommand(CLI::App& app) {
       "engine's config.yaml, demo.avi (MJPG) and snapshot PNGs (map, polygon, vehicle,\n"
       "position circle, true outlines in green). Prints per-stage median timings and quality.\n"
       "Without --config the engine runs the road setup of configs/scala.yaml (conservative\n"
-      "polygon with a one-cell margin, N = 128).");
+      "polygon with a one-cell margin, N = 128). With --seeds: one such drive per seed (and\n"
+      "scenario of --scenarios) in OUT/<scenario>-<seed>/, without video, then the table of\n"
+      "means over seeds, worst seed and pooled figures, and OUT/seeds.json.");
   AddSimOptions(command, &options->sim);
   command->add_option("--out", options->out, "Output directory")->capture_default_str();
   command
@@ -290,7 +349,10 @@ Command AddDemoCommand(CLI::App& app) {
   command->add_flag("--no-video", options->no_video, "Write no video");
   command->add_flag("--quiet", options->quiet, "No progress line");
   AddEngineOptions(command, &options->engine);
-  return {command, [options] { return DemoRun(*options).Run(); }};
+  AddSeedOptions(command, &options->seeds);
+  return {command, [options] {
+            return options->seeds.seeds.empty() ? DemoRun(*options).Run() : DemoSeeds(*options);
+          }};
 }
 
 }  // namespace freespace::cli

@@ -56,6 +56,18 @@ Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_se
   return config;
 }
 
+bool ConfigSetsSensor(const EngineOptions& options) {
+  if (options.config_path.empty()) return false;
+  std::ifstream in(options.config_path);
+  if (!in) throw ConfigError("config: cannot open '" + options.config_path + "'");
+  std::stringstream text;
+  text << in.rdbuf();
+  for (const std::string& s : YamlSections(text.str())) {
+    if (s == "sensor") return true;
+  }
+  return false;
+}
+
 void MakeDirectories(const std::string& dir) {
   std::error_code error;
   std::filesystem::create_directories(dir, error);

@@ -28,6 +28,10 @@ void AddEngineOptions(CLI::App* command, EngineOptions* options);
 Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_sensor,
                         const Config& base = Config());
 
+// Whether the file of --config has a `sensor` section (false without --config). Throws
+// ConfigError when it cannot be read.
+bool ConfigSetsSensor(const EngineOptions& options);
+
 // Creates `dir` (and parents); throws InputError when it cannot.
 void MakeDirectories(const std::string& dir);
 

@@ -8,6 +8,8 @@
 #include "eval/scorer.hpp"
 #include "freespace/freespace.hpp"
 #include "quality_report.hpp"
+#include "seed_runs.hpp"
+#include "sim_options.hpp"
 
 namespace freespace::cli {
 namespace {
@@ -18,9 +20,75 @@ struct EvalOptions {
   std::string out = "out/eval";
   bool quiet = false;
   EngineOptions engine;
+  SimOptions sim;
+  SeedOptions seeds;
 };
 
+// --seeds: every (scenario, seed) drive simulated and scored in memory, then the table and
+// OUT/seeds.json.
+int EvalSeeds(const EvalOptions& options) {
+  std::vector<std::uint64_t> seeds;
+  std::vector<std::string> scenarios;
+  Config config;
+  bool keep_sensor = false;
+  try {
+    seeds = ParseSeeds(options.seeds.seeds);
+    scenarios = ParseScenarios(options.seeds.scenarios, options.sim.scenario);
+    config = LoadEngineConfig(options.engine, nullptr);
+    keep_sensor = ConfigSetsSensor(options.engine);
+    MakeDirectories(options.out);
+  } catch (const std::exception& e) {
+    std::cerr << "freespace eval: " << e.what() << "\n";
+    return kExitSetup;
+  }
+  std::vector<DriveEvaluation> drives;
+  const auto started = std::chrono::steady_clock::now();
+  try {
+    for (const std::string& scenario : scenarios) {
+      for (const std::uint64_t seed : seeds) {
+        SimOptions sim = options.sim;
+        sim.scenario = scenario;
+        sim.seed = seed;
+        drives.push_back(EvaluateDrive(MakeSimulationOptions(sim), config, keep_sensor));
+        if (!options.quiet) {
+          const nlohmann::json s = drives.back().metrics.Summary();
+          std::cout << "freespace eval: " << scenario << " seed " << seed << ": "
+                    << drives.back().metrics.size() << " scans, accuracy "
+                    << s.at("accuracy").at("mean") << ", intrusion "
+                    << s.at("intrusion_m2").at("mean") << " m2, coverage "
+                    << s.at("coverage").at("mean") << std::endl;
+        }
+      }
+    }
+    const nlohmann::json summary = SeedSummary(drives);
+    WriteSeeds(options.out + "/seeds.json", config, summary);
+    if (!options.quiet) {
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      std::cout << "freespace eval: " << drives.size() << " drives, " << seconds
+                << " s; quality over seeds (docs/metrics.md):\n";
+      PrintSeedTable(std::cout, summary);
+      std::cout << "freespace eval: wrote " << options.out << "/seeds.json\n";
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "freespace eval: " << e.what() << "\n";
+    return kExitSetup;
+  }
+  return kExitOk;
+}
+
 int Eval(const EvalOptions& options) {
+  if (!options.seeds.seeds.empty()) {
+    if (!options.log.empty() || !options.truth.empty()) {
+      std::cerr << "freespace eval: --seeds simulates its drives: give it no --log or --truth\n";
+      return kExitSetup;
+    }
+    return EvalSeeds(options);
+  }
+  if (options.log.empty() || options.truth.empty()) {
+    std::cerr << "freespace eval: give --log and --truth of a drive, or --seeds\n";
+    return kExitSetup;
+  }
   std::unique_ptr<LogReader> reader;
   std::unique_ptr<Estimator> estimator;
   sim::Truth truth;
@@ -94,13 +162,15 @@ Command AddEvalCommand(CLI::App& app) {
       "(docs/metrics.md): cell accuracy over observed cells, false-free rate, polygon\n"
       "intrusion (m^2) and coverage. Writes OUT/eval.json (summary, per-stage times, per-scan\n"
       "scores) and prints the summary. Without a `sensor` section in --config the sensor\n"
-      "geometry comes from the log.");
+      "geometry comes from the log. With --seeds instead of --log and --truth: simulates the\n"
+      "drives of those seeds (and --scenarios) in memory, scores each and prints the table of\n"
+      "means over seeds, worst seed and pooled figures against the aims; writes OUT/seeds.json.");
   command->add_option("--log", options->log, "Simulated log (sim.fslog or sim.clf)")
-      ->required()
       ->check(CLI::ExistingFile);
   command->add_option("--truth", options->truth, "Truth file of the same drive (truth.json)")
-      ->required()
       ->check(CLI::ExistingFile);
+  AddSeedOptions(command, &options->seeds);
+  AddSimOptions(command, &options->sim);
   command->add_option("--out", options->out, "Output directory")->capture_default_str();
   command->add_flag("--quiet", options->quiet, "Print nothing but errors");
   AddEngineOptions(command, &options->engine);

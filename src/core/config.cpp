@@ -180,6 +180,8 @@ void VisitClassify(C& t, Visitor& v) {
     {"", Open(0, 0.5), "also free if p <= t_high next to a t_low cell; unknown is never free"});
   v("vehicle_width_m", t.vehicle_width_m,
     {"m", AtLeast(0), "opening element: an odd square of about this width"});
+  v("veto_current_echoes", t.veto_current_echoes,
+    {"", {}, "this scan's echo cells are not free this scan, whatever the map holds"});
 }
 
 template <class C, class Visitor>

@@ -1,98 +1,42 @@
-// The conservative free-space polygon (polygon.shape inside): the border rays cast exactly
-// from the sensor on the free mask, simplified, then pulled toward the sensor.
+// The conservative polygon. Why it covers mask cells only.
+//
+// Every ray is clear up to its end: it ends where it first enters (or touches at a corner) a
+// cell outside the mask. Neighbouring rays aim at neighbouring border cells, so the wedge
+// between them is less than a cell wide inside the map. A cell outside the mask that overlaps
+// the fan triangle (sensor, a, b) of two neighbouring ends with some area therefore cannot lie
+// inside it, nor reach it across the rays: it must cross the edge a -> b. So the cells that
+// edge meets are the only ones to test. In the triangle's barycentric coordinates (alpha along
+// a, beta along b) the least alpha + beta over such a cell's part inside the wedge is the
+// largest factor by which a and b may be scaled toward the sensor together without touching
+// it; moving only b, or only a, has a bound of its own. Moving a vertex toward the sensor along
+// its ray only shrinks the triangles on both sides of it, so each vertex takes the smaller
+// factor of its two edges and every triangle stays inside its clear one.
+//
+// The simplified polygon's edges are then held inside the ring: a triangle (sensor, a, b) of
+// the simplified polygon lies within the ring's fan triangles between a and b when every ring
+// vertex between them lies on or beyond the edge a -> b, which is a bound on the same three
+// kinds of pull. No cell is looked at again.
 #include "core/inside_polygon.hpp"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 #include "core/backend.hpp"
 
 namespace freespace {
-
-// The conservative polygon. Why it covers free cells only: each ray is free up to its vertex,
-// so a cell that is not free can meet a fan triangle (sensor, a, b) of the result only away
-// from its two rays; in the triangle's barycentric coordinates (alpha along a, beta along b)
-// the least alpha + beta over such a cell's part inside the wedge is the largest factor by
-// which a and b may be scaled toward the sensor without touching it. Moving a vertex toward
-// the sensor along its ray only shrinks the triangles on both sides of it, so each vertex
-// takes the smaller factor of its two edges and every triangle stays inside its free one.
 namespace {
 
 double Cross(const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); }
 
 // Below this area (cells^2) a triangle or an overlap counts as none: rounding only.
 constexpr double kAreaTolerance = 1e-9;
-
-}  // namespace
-
-InsidePolygonBuilder::InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon,
-                                           int threads)
-    : width_(width),
-      height_(height),
-      simplifier_(max_vertices, epsilon),
-      block_sat_(std::size_t((width + kBlock - 1) / kBlock + 1) *
-                 ((height + kBlock - 1) / kBlock + 1)),
-      block_row_(std::size_t((width + kBlock - 1) / kBlock)),
-      arena_(threads > 0 ? threads : tbb::task_arena::automatic) {
-  ring_.reserve(std::size_t(BorderLabelCount(height, width)));
-  kept_.reserve(std::size_t(std::max(max_vertices, 3)) + 1);
-  scale_.reserve(std::size_t(std::max(max_vertices, 3)) + 1);
-  // The rays' targets: the border cells' centres in label order; the corner cells, which two
-  // labels share, once.
-  const int labels = BorderLabelCount(height, width);
-  const CellIndex first = BorderCell(0, height, width);
-  CellIndex last{-1, -1};
-  for (int l = 0; l < labels; ++l) {
-    const CellIndex cell = BorderCell(l, height, width);
-    if ((cell.row == last.row && cell.col == last.col) ||
-        (l > 0 && cell.row == first.row && cell.col == first.col)) {
-      continue;
-    }
-    last = cell;
-    targets_.emplace_back(cell.col + 0.5, cell.row + 0.5);
-  }
-}
-
-double InsidePolygonBuilder::Trace(const std::uint8_t* free, const Vec2& sensor,
-                                   const Vec2& target) const {
-  const auto is_free = [&](int x, int y) {
-    return x >= 0 && y >= 0 && x < width_ && y < height_ && free[std::size_t(y) * width_ + x];
-  };
-  const Vec2 d = target - sensor;
-  int cx = int(std::floor(sensor.x())), cy = int(std::floor(sensor.y()));
-  const int sx = d.x() > 0 ? 1 : (d.x() < 0 ? -1 : 0);
-  const int sy = d.y() > 0 ? 1 : (d.y() < 0 ? -1 : 0);
-  // Amanatides-Woo: t of the next column / row border crossed, and the t per cell.
-  double tx = sx > 0 ? (cx + 1 - sensor.x()) / d.x() : sx < 0 ? (cx - sensor.x()) / d.x() : 2.0;
-  double ty = sy > 0 ? (cy + 1 - sensor.y()) / d.y() : sy < 0 ? (cy - sensor.y()) / d.y() : 2.0;
-  const double dtx = sx != 0 ? 1.0 / std::abs(d.x()) : 0.0;
-  const double dty = sy != 0 ? 1.0 / std::abs(d.y()) : 0.0;
-  while (true) {
-    const double t = std::min(tx, ty);
-    if (t >= 1.0) return 1.0;
-    if (tx == ty) {
-      // Through a corner: the ray touches all three cells beyond it.
-      if (!is_free(cx + sx, cy) || !is_free(cx, cy + sy) || !is_free(cx + sx, cy + sy)) return t;
-      cx += sx;
-      cy += sy;
-      tx += dtx;
-      ty += dty;
-    } else if (tx < ty) {
-      cx += sx;
-      if (!is_free(cx, cy)) return t;
-      tx += dtx;
-    } else {
-      cy += sy;
-      if (!is_free(cx, cy)) return t;
-      ty += dty;
-    }
-  }
-}
-
-namespace {
+// Cells within this distance of an edge are tested: rounding must not hide a crossed one.
+constexpr double kReach = 1e-7;
+// A cell whose part in a triangle lies within this fraction of the far edge is beyond it: the
+// strip holds less than 1e-6 cells^2 of any triangle in a map of 8192 x 8192 cells.
+constexpr double kEdgeTolerance = 1e-14;
 
 // A convex polygon in (alpha, beta) coordinates, at most 8 vertices (a square cut by three
 // half-planes).
@@ -134,210 +78,241 @@ struct Clip {
   }
 };
 
+// The three bounds of PullBetweenRays, each 1 until a cell limits it.
+struct PullBounds {
+  double both = 1.0, only_a = 1.0, only_b = 1.0;
+
+  // Limits them by cell (row, col), which lies outside the mask, for the triangle (sensor,
+  // sensor + u, sensor + v) of twice the area det > 0.
+  void Limit(int row, int col, const Vec2& sensor, const Vec2& u, const Vec2& v, double det) {
+    Clip cell;
+    double least = INFINITY;
+    for (const Vec2& corner :
+         {Vec2(col, row), Vec2(col + 1, row), Vec2(col + 1, row + 1), Vec2(col, row + 1)}) {
+      const Vec2 w = corner - sensor;
+      double* ab = cell.v[cell.n++];
+      ab[0] = Cross(w, v) / det;
+      ab[1] = Cross(u, w) / det;
+      least = std::min(least, ab[0] + ab[1]);
+    }
+    // Wholly beyond the edge (up to rounding: the cells a ray ended on): nothing to limit.
+    if (least >= 1.0 - kEdgeTolerance) return;
+    cell.Cut(0, 1, 0);         // alpha >= 0
+    cell.Cut(0, 0, 1);         // beta >= 0
+    // The overlap's area in cells^2 is det times its area in (alpha, beta).
+    if (cell.n < 3 || cell.Area() * det <= kAreaTolerance) return;
+    for (int i = 0; i < cell.n; ++i) both = std::min(both, cell.v[i][0] + cell.v[i][1]);
+    Clip near_a = cell;    // alpha <= 1: beta / (1 - alpha) is constant along edges ending at
+    near_a.Cut(1, -1, 0);  // alpha = 1, so the least lies at a vertex with alpha < 1
+    for (int i = 0; i < near_a.n; ++i) {
+      if (near_a.v[i][0] < 1.0) only_b = std::min(only_b, near_a.v[i][1] / (1.0 - near_a.v[i][0]));
+    }
+    Clip near_b = cell;
+    near_b.Cut(1, 0, -1);
+    for (int i = 0; i < near_b.n; ++i) {
+      if (near_b.v[i][1] < 1.0) only_a = std::min(only_a, near_b.v[i][0] / (1.0 - near_b.v[i][1]));
+    }
+  }
+
+  // The choice that keeps the most of the triangle (its area scales with scale_a * scale_b).
+  void Choose(double* scale_a, double* scale_b) const {
+    const double b0 = std::clamp(both, 0.0, 1.0), a1 = std::clamp(only_a, 0.0, 1.0);
+    const double b1 = std::clamp(only_b, 0.0, 1.0);
+    *scale_a = *scale_b = b0;
+    if (b1 > b0 * b0 && b1 >= a1) {
+      *scale_a = 1.0;
+      *scale_b = b1;
+    } else if (a1 > b0 * b0) {
+      *scale_a = a1;
+      *scale_b = 1.0;
+    }
+  }
+};
+
 }  // namespace
 
-void InsidePolygonBuilder::EdgePull(const std::uint8_t* free, const Vec2& sensor, const Vec2& a,
-                                    const Vec2& b, double* scale_a, double* scale_b) const {
-  const Vec2 u = a - sensor, v = b - sensor;
-  const double det = Cross(u, v);  // twice the triangle's area
-  if (det < -kAreaTolerance) {     // turns clockwise: the sensor is not inside
-    *scale_a = *scale_b = 0.0;
-    return;
+InsidePolygonBuilder::InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon,
+                                           int threads)
+    : width_(width),
+      height_(height),
+      simplifier_(max_vertices, epsilon),
+      arena_(threads > 0 ? threads : tbb::task_arena::automatic) {
+  // One ray per distinct border cell: the corner cells, which two labels share, once.
+  const int labels = BorderLabelCount(height, width);
+  const CellIndex first = BorderCell(0, height, width);
+  CellIndex last{-1, -1};
+  for (int l = 0; l < labels; ++l) {
+    const CellIndex cell = BorderCell(l, height, width);
+    if (cell == last || (l > 0 && cell == first)) continue;
+    last = cell;
+    labels_.push_back(l);
   }
+  ring_.reserve(labels_.size());
+  ring_stop_.resize(labels_.size());
+  need_a_.resize(labels_.size());
+  need_b_.resize(labels_.size());
+  kept_.reserve(std::size_t(std::max(max_vertices, 3)) + 1);
+  scale_.reserve(std::size_t(std::max(max_vertices, 3)) + 1);
+}
+
+void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sensor, const Vec2& a,
+                                           const Vec2& b, const NearSide& near, double* scale_a,
+                                           double* scale_b) const {
   *scale_a = *scale_b = 1.0;
-  if (det <= kAreaTolerance) return;  // no area: the edge runs along its traced rays
-  // Three ways out, each the largest safe choice of its kind: both ends scaled alike
-  // (least alpha + beta), only b moved (least beta / (1 - alpha) where alpha < 1: a not-free
-  // point must stay beyond the chord a -> s b), or only a moved.
-  double both = 1.0, only_b = 1.0, only_a = 1.0;
-  const Vec2 tri[3] = {sensor, a, b};
-  const double y0 = std::min({sensor.y(), a.y(), b.y()});
-  const double y1 = std::max({sensor.y(), a.y(), b.y()});
-  const int r0 = std::max(0, int(std::floor(y0))), r1 = std::min(height_ - 1, int(std::floor(y1)));
-  // The not-free cells of row r, columns c0 .. c1, that overlap the triangle limit the ways out.
-  const auto scan_row = [&](int r, int c0, int c1) {
-    const std::uint8_t* row = free + std::size_t(r) * width_;
-    for (int c = c0; c <= c1; ++c) {
-      // Skip free cells a machine word at a time.
-      const void* hit = std::memchr(row + c, 0, std::size_t(c1 - c + 1));
-      if (hit == nullptr) break;
-      c = int(static_cast<const std::uint8_t*>(hit) - row);
-      // The cell's corners in (alpha, beta): p = sensor + alpha u + beta v.
-      Clip cell;
-      double least = INFINITY;
-      for (const Vec2& corner : {Vec2(c, r), Vec2(c + 1, r), Vec2(c + 1, r + 1), Vec2(c, r + 1)}) {
-        const Vec2 w = corner - sensor;
-        double* ab = cell.v[cell.n++];
-        ab[0] = Cross(w, v) / det;
-        ab[1] = Cross(u, w) / det;
-        least = std::min(least, ab[0] + ab[1]);
-      }
-      if (least >= 1.0) continue;  // wholly beyond the chord: no way out is limited by it
-      cell.Cut(0, 1, 0);           // alpha >= 0
-      cell.Cut(0, 0, 1);           // beta >= 0
-      // The overlap's area in cells^2 is det times its area in (alpha, beta).
-      if (cell.n < 3 || cell.Area() * det <= kAreaTolerance) continue;
-      for (int i = 0; i < cell.n; ++i) both = std::min(both, cell.v[i][0] + cell.v[i][1]);
-      Clip near_a = cell;    // alpha <= 1: beta / (1 - alpha) is constant along edges ending at
-      near_a.Cut(1, -1, 0);  // alpha = 1, so the least lies at a vertex with alpha < 1
-      for (int i = 0; i < near_a.n; ++i) {
-        if (near_a.v[i][0] < 1.0) {
-          only_b = std::min(only_b, near_a.v[i][1] / (1.0 - near_a.v[i][0]));
-        }
-      }
-      Clip near_b = cell;
-      near_b.Cut(1, 0, -1);
-      for (int i = 0; i < near_b.n; ++i) {
-        if (near_b.v[i][1] < 1.0) {
-          only_a = std::min(only_a, near_b.v[i][0] / (1.0 - near_b.v[i][1]));
-        }
-      }
+  const Vec2 u = a - sensor, v = b - sensor;
+  const double det = Cross(u, v);        // twice the triangle's area
+  if (det <= kAreaTolerance) return;     // no area: the edge runs along its rays
+  PullBounds bounds;
+  // The cells the edge a -> b meets, a row at a time, found 64 cells a word.
+  const double y0 = std::min(a.y(), b.y()) - kReach, y1 = std::max(a.y(), b.y()) + kReach;
+  const int r0 = std::max(near.row_min, int(std::floor(y0)));
+  const int r1 = std::min(near.row_max, int(std::floor(y1)));
+  const double slope = b.y() != a.y() ? (b.x() - a.x()) / (b.y() - a.y()) : 0.0;
+  for (int r = r0; r <= r1; ++r) {
+    double x0 = std::min(a.x(), b.x()), x1 = std::max(a.x(), b.x());
+    if (b.y() != a.y()) {  // the edge's part in rows [r, r + 1], x at its two ends there
+      const double ya = std::clamp(double(r), std::min(a.y(), b.y()), std::max(a.y(), b.y()));
+      const double yb = std::clamp(double(r + 1), std::min(a.y(), b.y()), std::max(a.y(), b.y()));
+      const double xa = a.x() + (ya - a.y()) * slope, xb = a.x() + (yb - a.y()) * slope;
+      x0 = std::max(x0, std::min(xa, xb));
+      x1 = std::min(x1, std::max(xa, xb));
     }
-  };
-  // Bands of rows, halved until they are one row, and dropped as soon as the blocks under the
-  // triangle's part in them are all free (thin triangles along free rays are dropped whole).
-  int bands[64][2];
-  int top = 0;
-  bands[top][0] = r0;
-  bands[top][1] = r1;
-  ++top;
-  while (top > 0) {
-    --top;
-    const int ra = bands[top][0], rb = bands[top][1];
-    // The triangle's x extent within the band [ra, rb + 1].
-    double x0 = INFINITY, x1 = -INFINITY;
-    for (int i = 0; i < 3; ++i) {
-      const Vec2& p = tri[i];
-      const Vec2& q = tri[(i + 1) % 3];
-      if (p.y() >= ra && p.y() <= rb + 1) {
-        x0 = std::min(x0, p.x());
-        x1 = std::max(x1, p.x());
+    const int c0 = std::max(near.col_min, int(std::floor(x0 - kReach)));
+    const int c1 = std::min(near.col_max, int(std::floor(x1 + kReach)));
+    if (c0 > c1) continue;
+    const std::uint64_t* line = mask.bits + std::size_t(r) * mask.words;
+    for (int w = c0 >> 6; w <= c1 >> 6; ++w) {
+      std::uint64_t blocked = ~line[w];
+      if (w == c0 >> 6) blocked &= ~std::uint64_t{0} << (c0 & 63);
+      if (w == c1 >> 6) blocked &= ~std::uint64_t{0} >> (63 - (c1 & 63));
+      while (blocked != 0) {
+        bounds.Limit(r, w * 64 + __builtin_ctzll(blocked), sensor, u, v, det);
+        blocked &= blocked - 1;
       }
-      for (const double y : {double(ra), double(rb + 1)}) {
-        if ((p.y() - y) * (q.y() - y) < 0) {
-          const double x = p.x() + (q.x() - p.x()) * (y - p.y()) / (q.y() - p.y());
-          x0 = std::min(x0, x);
-          x1 = std::max(x1, x);
-        }
-      }
-    }
-    if (x0 > x1) continue;
-    const int c0 = std::max(0, int(std::floor(x0))), c1 = std::min(width_ - 1, int(std::floor(x1)));
-    if (c0 > c1 || !BlocksNotFree(ra, rb, c0, c1)) continue;
-    if (ra < rb) {
-      const int mid = ra + (rb - ra) / 2;
-      bands[top][0] = mid + 1;
-      bands[top][1] = rb;
-      bands[top + 1][0] = ra;
-      bands[top + 1][1] = mid;
-      top += 2;
-      continue;
-    }
-    scan_row(ra, c0, c1);
-  }
-  both = std::clamp(both, 0.0, 1.0);
-  only_a = std::clamp(only_a, 0.0, 1.0);
-  only_b = std::clamp(only_b, 0.0, 1.0);
-  // The choice that keeps the most of the triangle (its area scales with scale_a * scale_b).
-  *scale_a = *scale_b = both;
-  if (only_b > both * both && only_b >= only_a) {
-    *scale_a = 1.0;
-    *scale_b = only_b;
-  } else if (only_a > both * both) {
-    *scale_a = only_a;
-    *scale_b = 1.0;
-  }
-}
-
-void InsidePolygonBuilder::CountBlocks(const std::uint8_t* free) {
-  const int bw = (width_ + kBlock - 1) / kBlock, bh = (height_ + kBlock - 1) / kBlock;
-  std::uint32_t* sat = block_sat_.data();
-  std::fill(sat, sat + bw + 1, 0u);
-  for (int br = 0; br < bh; ++br) {
-    std::fill(block_row_.begin(), block_row_.end(), std::uint8_t{0});
-    for (int r = br * kBlock; r < std::min(height_, (br + 1) * kBlock); ++r) {
-      const std::uint8_t* row = free + std::size_t(r) * width_;
-      for (int bc = 0; bc < bw; ++bc) {
-        const int c0 = bc * kBlock, c1 = std::min(width_, c0 + kBlock);
-        if (c1 - c0 == 8) {
-          std::uint64_t x;
-          std::memcpy(&x, row + c0, 8);
-          // A zero byte among the eight (the classic has-zero-byte test).
-          block_row_[bc] |= ((x - 0x0101010101010101ull) & ~x & 0x8080808080808080ull) != 0;
-        } else {
-          for (int c = c0; c < c1; ++c) block_row_[bc] |= row[c] == 0;
-        }
-      }
-    }
-    // Summed-area table of not-free blocks: sat[(br + 1) * (bw + 1) + bc + 1] counts the
-    // blocks in rows 0 .. br and columns 0 .. bc.
-    std::uint32_t* above = sat + std::size_t(br) * (bw + 1);
-    std::uint32_t* here = above + (bw + 1);
-    here[0] = 0;
-    std::uint32_t run = 0;
-    for (int bc = 0; bc < bw; ++bc) {
-      run += block_row_[bc];
-      here[bc + 1] = above[bc + 1] + run;
     }
   }
+  bounds.Choose(scale_a, scale_b);
 }
 
-bool InsidePolygonBuilder::BlocksNotFree(int r0, int r1, int c0, int c1) const {
-  const int bw = (width_ + kBlock - 1) / kBlock;
-  const int br0 = r0 / kBlock, br1 = r1 / kBlock + 1, bc0 = c0 / kBlock, bc1 = c1 / kBlock + 1;
-  const std::uint32_t* sat = block_sat_.data();
-  const std::size_t stride = std::size_t(bw) + 1;
-  return sat[br1 * stride + bc1] - sat[br0 * stride + bc1] - sat[br1 * stride + bc0] +
-             sat[br0 * stride + bc0] !=
-         0;
+void InsidePolygonBuilder::PullInsideRing(const Vec2& sensor, int i, int j, double* scale_a,
+                                          double* scale_b) const {
+  const int n = int(ring_.size());
+  const Vec2 a = ring_[std::size_t(i)] - sensor, b = ring_[std::size_t(j)] - sensor;
+  const double det = Cross(a, b);
+  *scale_a = *scale_b = 1.0;
+  PullBounds bounds;
+  if (det <= kAreaTolerance) {
+    // Half a turn or more, or no area: the edge cannot pass the ring on its far side.
+    if (det < -kAreaTolerance) bounds.both = bounds.only_a = bounds.only_b = 0.0;
+  } else {
+    for (int k = (i + 1) % n; k != j; k = (k + 1) % n) {
+      const Vec2 p = ring_[std::size_t(k)] - sensor;
+      // p must lie on or beyond the edge: both ends scaled by s, only b, or only a.
+      bounds.both = std::min(bounds.both, Cross(p, b - a) / det);
+      const double c1 = Cross(b, p - a);
+      if (c1 > 0) bounds.only_b = std::min(bounds.only_b, Cross(a, p) / c1);
+      const double e = Cross(a, p) - det;
+      if (e < 0) bounds.only_a = std::min(bounds.only_a, Cross(b, p) / e);
+    }
+  }
+  bounds.Choose(scale_a, scale_b);
 }
 
-double InsidePolygonBuilder::Build(const std::uint8_t* free, const Vec2& sensor,
-                                   std::vector<Vec2>* polygon) {
+InsidePolygonBuilder::NearSide InsidePolygonBuilder::Near(const Vec2& sensor, const RayStop& a,
+                                                          const RayStop& b) const {
+  NearSide near{0, height_ - 1, 0, width_ - 1};
+  // Two rays that stopped on one cell edge line: the edge between them runs along it, and the
+  // cells beyond the line touch the triangle along the edge only.
+  if (a.kind == b.kind && a.line == b.line) {
+    if (a.kind == kRayCrossX) {
+      if (sensor.x() < a.line) near.col_max = a.line - 1;
+      else near.col_min = a.line;
+    } else if (a.kind == kRayCrossY) {
+      if (sensor.y() < a.line) near.row_max = a.line - 1;
+      else near.row_min = a.line;
+    }
+  }
+  return near;
+}
+
+bool InsidePolygonBuilder::Distinct(std::vector<Vec2>* polygon) {
+  std::vector<Vec2>& p = *polygon;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (n > 0 && (p[i] - p[n - 1]).squaredNorm() <= 1e-18) continue;
+    p[n++] = p[i];
+  }
+  while (n > 1 && (p[n - 1] - p[0]).squaredNorm() <= 1e-18) --n;
+  p.resize(n);
+  double area = 0.0;
+  for (std::size_t i = 0; i < n; ++i) area += Cross(p[i], p[(i + 1) % n]);
+  if (n < 3 || area <= kAreaTolerance) {
+    p.clear();
+    return false;
+  }
+  return true;
+}
+
+bool InsidePolygonBuilder::Build(const MaskView& mask, const SensorCell& s,
+                                 const std::vector<RayStop>& stops, std::vector<Vec2>* polygon,
+                                 double* error) {
   polygon->clear();
-  ring_.clear();
-  const int sx = int(std::floor(sensor.x())), sy = int(std::floor(sensor.y()));
-  if (sx < 0 || sy < 0 || sx >= width_ || sy >= height_ || !free[std::size_t(sy) * width_ + sx]) {
-    polygon->assign(3, sensor);
-    return 0.0;
-  }
-  CountBlocks(free);
-  // One ray per border cell, in label order (counter-clockwise; targets_), in parallel.
-  const int rays = int(targets_.size());
-  ring_.resize(targets_.size());
-  arena_.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, rays, 64),
-                      [&](const tbb::blocked_range<int>& range) {
-                        for (int i = range.begin(); i != range.end(); ++i) {
-                          const Vec2& target = targets_[i];
-                          ring_[i] = sensor + Trace(free, sensor, target) * (target - sensor);
-                        }
-                      });
-  });
-  // Neighbouring rays can pass a not-free cell between them (a ray through a gap in a wall
-  // next to one stopped by the wall): pull the ring in first, so that the simplification
-  // works on a ring that already covers free cells only and has no such spikes.
-  const int m = int(ring_.size());
+  *error = 0.0;
+  const Vec2 sensor(double(s.x) / kFixedOne, double(s.y) / kFixedOne);
+  const int m = int(labels_.size());
+  ring_.resize(labels_.size());
+  bool beyond = false;  // a ray ended outside the sensor's own cell
   for (int k = 0; k < m; ++k) {
-    Vec2& a = ring_[k];
-    Vec2& b = ring_[(k + 1) % m];
-    double sa = 1.0, sb = 1.0;
-    EdgePull(free, sensor, a, b, &sa, &sb);
-    a = sensor + sa * (a - sensor);
-    b = sensor + sb * (b - sensor);
+    const int label = labels_[std::size_t(k)];
+    const CellIndex target = BorderCell(label, height_, width_);
+    const RayStop& stop = stops[std::size_t(label)];
+    const Vec2 p = RayStopPoint(s, target.col, target.row, stop);
+    ring_[std::size_t(k)] = p;
+    ring_stop_[std::size_t(k)] = stop;
+    beyond = beyond || p.x() < s.cell.col - kReach || p.x() > s.cell.col + 1 + kReach ||
+             p.y() < s.cell.row - kReach || p.y() > s.cell.row + 1 + kReach;
   }
-  const double error = simplifier_.Simplify(ring_, sensor, &kept_);
+  if (!beyond) return false;
+  // Neighbouring rays can pass a cell outside the mask between them: pull the ring in first,
+  // so that the simplification works on a ring whose fan lies in the mask.
+  arena_.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, m, 64), [&](const tbb::blocked_range<int>& range) {
+      for (int k = range.begin(); k != range.end(); ++k) {
+        const int next = (k + 1) % m;
+        PullBetweenRays(mask, sensor, ring_[std::size_t(k)], ring_[std::size_t(next)],
+                        Near(sensor, ring_stop_[std::size_t(k)], ring_stop_[std::size_t(next)]),
+                        &need_a_[std::size_t(k)], &need_b_[std::size_t(k)]);
+      }
+    });
+  });
+  for (int k = 0; k < m; ++k) {
+    const double scale = std::min(need_a_[std::size_t(k)], need_b_[std::size_t((k + m - 1) % m)]);
+    ring_[std::size_t(k)] = sensor + scale * (ring_[std::size_t(k)] - sensor);
+  }
+  // Rays blocked at once (the sensor on a cell edge or corner) end at the sensor: one vertex
+  // there is enough.
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < ring_.size(); ++k) {
+    if (count > 0 && (ring_[k] - ring_[count - 1]).squaredNorm() <= 1e-18) continue;
+    ring_[count++] = ring_[k];
+  }
+  while (count > 1 && (ring_[count - 1] - ring_[0]).squaredNorm() <= 1e-18) --count;
+  ring_.resize(count);
+  *error = simplifier_.Simplify(ring_, sensor, &kept_);
   const int n = int(kept_.size());
   scale_.assign(std::size_t(n), 1.0);
   for (int k = 0; k < n; ++k) {
     const int next = (k + 1) % n;
     double sa = 1.0, sb = 1.0;
-    EdgePull(free, sensor, ring_[kept_[k]], ring_[kept_[next]], &sa, &sb);
-    scale_[k] = std::min(scale_[k], sa);
-    scale_[next] = std::min(scale_[next], sb);
+    PullInsideRing(sensor, kept_[std::size_t(k)], kept_[std::size_t(next)], &sa, &sb);
+    scale_[std::size_t(k)] = std::min(scale_[std::size_t(k)], sa);
+    scale_[std::size_t(next)] = std::min(scale_[std::size_t(next)], sb);
   }
-  for (int k = 0; k < n; ++k) polygon->push_back(sensor + scale_[k] * (ring_[kept_[k]] - sensor));
-  return error;
+  for (int k = 0; k < n; ++k) {
+    polygon->push_back(sensor +
+                       scale_[std::size_t(k)] * (ring_[std::size_t(kept_[std::size_t(k)])] - sensor));
+  }
+  return Distinct(polygon);
 }
 
 }  // namespace freespace

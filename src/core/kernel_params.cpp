@@ -34,6 +34,12 @@ KernelParams MakeKernelParams(const Config& config) {
   // An odd square about the vehicle's width: side 2h + 1 closest to width / resolution.
   const double side = config.classify.vehicle_width_m / config.map.resolution_m;
   p.opening_radius = int(std::max(0L, std::lround((side - 1.0) / 2.0)));
+  p.veto_echoes = config.classify.veto_current_echoes;
+  p.margin_cells = config.polygon.margin_cells;
+  const double half_angle = config.polygon.margin_cone_deg * M_PI / 180.0;
+  p.margin_all = config.polygon.margin_cone_deg >= 180.0;
+  p.cone_cos = std::int32_t(std::lround(std::cos(half_angle) * kConeOne));
+  p.cone_sin = std::int32_t(std::lround(std::sin(half_angle) * kConeOne));
   return p;
 }
 

@@ -11,16 +11,6 @@ namespace {
 constexpr double kDegToRad = M_PI / 180.0;
 constexpr float kNone = std::numeric_limits<float>::infinity();
 
-// Round half away from zero (as llround), inline: it runs for every point of every scan.
-std::int32_t ToFixed(double cells) {
-  const double v = cells * kFixedOne;
-  return std::int32_t(v >= 0.0 ? v + 0.5 : v - 0.5);
-}
-
-std::int32_t FixedFloorCell(std::int32_t fixed) {
-  return fixed >= 0 ? fixed / kFixedOne : -((-fixed + kFixedOne - 1) / kFixedOne);
-}
-
 int BinCount(const SensorConfig& s) {
   return int(std::floor((s.max_angle_deg - s.min_angle_deg) / s.angular_resolution_deg + 0.5)) + 1;
 }
@@ -203,11 +193,13 @@ void Preprocessor::ProjectRays(const Vec2& sensor_cells, double yaw, int width, 
   const int origin_row = FixedFloorCell(ToFixed(sensor_cells.y()));
   int row_min = origin_row, row_max = origin_row;
   ray_ends_.clear();
+  occupied_.clear();
   for (const EchoPoint& e : kept_) {
     const int col = FixedFloorCell(ToFixed(sensor_cells.x() + (c * e.x - s * e.y) * k));
     const int row = FixedFloorCell(ToFixed(sensor_cells.y() + (s * e.x + c * e.y) * k));
     ray_ends_.push_back(col);
     ray_ends_.push_back(row);
+    if (col >= 0 && col < width && row >= 0 && row < height) occupied_.push_back(row * width + col);
     row_min = std::min(row_min, row);
     row_max = std::max(row_max, row);
   }
@@ -217,7 +209,6 @@ void Preprocessor::ProjectRays(const Vec2& sensor_cells, double yaw, int width, 
   job->ray_count = int(ray_ends_.size() / 2);
   job->row_begin = std::clamp(row_min, 0, height);
   job->row_end = std::clamp(row_max + 1, 0, height);
-  (void)width;
 }
 
 }  // namespace freespace

@@ -82,7 +82,12 @@ int PolygonSimplifier::ContainmentSplit(const std::vector<Vec2>& ring, const Vec
     if (g.worst < 0) continue;
     const Vec2& a = ring[g.from];
     const Vec2& b = ring[(g.from + g.length) % n];
-    if (LeftOf(a, b, inside) > 0.0) continue;
+    // A ring through `inside` itself (a ray of the conservative polygon blocked at once) has
+    // it on the edges that end there.
+    if (LeftOf(a, b, inside) > 0.0 || (a - inside).squaredNorm() <= 1e-18 ||
+        (b - inside).squaredNorm() <= 1e-18) {
+      continue;
+    }
     return s;
   }
   return -1;

@@ -87,6 +87,7 @@ void Estimator::Impl::Begin(const Scan& scan) {
   r.polygon.clear();
   r.polygon_cells.clear();
   r.edge_cells.clear();
+  r.polygon_status = PolygonStatus::kNone;
   r.simplification_error_m = 0.0;
   r.polygon_contains_vehicle = false;
 }
@@ -162,32 +163,40 @@ bool Estimator::Impl::Align(const Scan& scan) {
   return true;
 }
 
+// The sensor model and the fusion (kernel stages 1, 2), and this scan's echoes for the veto.
 void Estimator::Impl::UpdateMap(bool has_update, const Scan& scan) {
   Result& r = result_;
   if (has_update) {
     sensor_model_->Update(preprocess_.get(), r.vehicle_cells, r.yaw, backend_.get(), &r.times);
+    const std::vector<std::int32_t>& echoes = preprocess_->echo_cells();
+    backend_->SetEchoes(echoes.data(), int(echoes.size()));
   } else {
+    backend_->SetEchoes(nullptr, 0);
     r.status = ScanStatus::kNoSensorUpdate;
     r.message.assign(scan.points.empty() ? "empty scan: no sensor update"
                                          : "no usable echo: no sensor update");
   }
 }
 
-// Kernel stages 3 and 4: classification + opening, in-sight edges.
+// Kernel stage 3 (classification + opening) and the border rays (stage 4).
 void Estimator::Impl::ClassifyAndScan() {
   const Clock::time_point start = Clock::now();
   backend_->Classify();
-  const Clock::time_point classified = Clock::now();
-  backend_->InSight(result_.vehicle_cell, &result_.edge_cells);
-  result_.times.classify_us = Micros(start, classified);
-  result_.times.insight_us = Micros(classified, Clock::now());
+  result_.times.classify_us = Micros(start, Clock::now());
+  polygon_->CastRays(result_.vehicle_cells, result_.vehicle_cell, backend_.get(),
+                     &result_.edge_cells, &result_.times);
 }
 
 // The polygon in map cells, then in world metres.
 void Estimator::Impl::ExtractPolygon() {
   Result& r = result_;
-  const double error_cells =
-      polygon_->Extract(r.edge_cells, r.vehicle_cells, backend_.get(), &r.polygon_cells);
+  double error_cells = 0.0;
+  if (!polygon_->Extract(r.edge_cells, r.vehicle_cells, &r.polygon_cells, &error_cells)) {
+    r.polygon_status = PolygonStatus::kNoFreeSpace;
+    if (r.message.empty()) r.message.assign("nothing around the sensor is free: no polygon");
+    return;
+  }
+  r.polygon_status = PolygonStatus::kOk;
   const double res = config_.map.resolution_m;
   const double mc = std::cos(r.map_yaw), ms = std::sin(r.map_yaw);
   for (const Vec2& v : r.polygon_cells) {
@@ -266,6 +275,18 @@ const char* ToString(ScanStatus status) {
       return "no_sensor_update";
     case ScanStatus::kRejected:
       return "rejected";
+  }
+  return "?";
+}
+
+const char* ToString(PolygonStatus status) {
+  switch (status) {
+    case PolygonStatus::kOk:
+      return "ok";
+    case PolygonStatus::kNoFreeSpace:
+      return "no_free_space";
+    case PolygonStatus::kNone:
+      return "none";
   }
   return "?";
 }

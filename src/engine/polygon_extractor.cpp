@@ -1,16 +1,24 @@
-// The paper's polygon (C_Edge cell centres simplified) and the conservative polygon (on the free
-// mask read back from the backend, with the vehicle's own cells and the safety margin).
+// The paper's polygon (C_Edge cell centres simplified) and the conservative polygon (exact rays
+// on the polygon mask, kernel stages 3b and 4, then the ring pulled inside the mask and
+// simplified on the host).
 #include "polygon_extractor.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdlib>
 
 #include "core/inside_polygon.hpp"
-#include "core/margin.hpp"
 #include "core/simplifier.hpp"
 
 namespace freespace {
 namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Micros(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::micro>(b - a).count();
+}
 
 class PaperPolygon final : public PolygonExtractor {
  public:
@@ -21,19 +29,34 @@ class PaperPolygon final : public PolygonExtractor {
     kept_.reserve(std::size_t(labels));
   }
 
-  double Extract(const std::vector<CellIndex>& edges, const Vec2& sensor, Backend* /*backend*/,
-                 std::vector<Vec2>* polygon) override {
+  void CastRays(const Vec2& /*sensor*/, CellIndex vehicle, Backend* backend,
+                std::vector<CellIndex>* edges, StageTimes* times) override {
+    const Clock::time_point start = Clock::now();
+    backend->InSight(vehicle, edges);
+    vehicle_ = vehicle;
+    times->insight_us = Micros(start, Clock::now());
+  }
+
+  bool Extract(const std::vector<CellIndex>& edges, const Vec2& sensor,
+               std::vector<Vec2>* polygon, double* error) override {
+    *error = 0.0;
+    // Nothing free around the sensor: every ray stopped at its first step.
+    const bool beyond = std::any_of(edges.begin(), edges.end(), [&](const CellIndex& c) {
+      return std::max(std::abs(c.row - vehicle_.row), std::abs(c.col - vehicle_.col)) > 1;
+    });
+    if (!beyond) return false;
     ring_.clear();
     for (const CellIndex& c : edges) ring_.emplace_back(c.col + 0.5, c.row + 0.5);
-    const double error = simplifier_.Simplify(ring_, sensor, &kept_);
+    *error = simplifier_.Simplify(ring_, sensor, &kept_);
     for (const int i : kept_) polygon->push_back(ring_[std::size_t(i)]);
-    return error;
+    return true;
   }
 
  private:
   PolygonSimplifier simplifier_;
   std::vector<Vec2> ring_;  // C_Edge cell centres, the unsimplified polygon
   std::vector<int> kept_;
+  CellIndex vehicle_;
 };
 
 class ConservativePolygon final : public PolygonExtractor {
@@ -41,64 +64,51 @@ class ConservativePolygon final : public PolygonExtractor {
   ConservativePolygon(const Config& config, const Backend& backend)
       : width_(config.map.width_cells),
         height_(config.map.height_cells),
-        opening_radius_(backend.params().opening_radius),
+        words_((width_ + 63) / 64),
         builder_(width_, height_, config.polygon.max_vertices,
-                 config.polygon.epsilon_m / config.map.resolution_m, config.backend.threads),
-        free_(std::size_t(width_) * height_) {
-    if (config.polygon.margin_cells > 0) {
-      margin_ = std::make_unique<PolygonMargin>(width_, height_, config.polygon.margin_cells,
-                                                config.polygon.margin_cone_deg);
-    }
-    if (backend.HostLogOdds() == nullptr) log_odds_copy_.resize(free_.size());
+                 config.polygon.epsilon_m / config.map.resolution_m, config.backend.threads) {
+    stops_.reserve(std::size_t(BorderLabelCount(height_, width_)));
+    if (backend.HostMaskBits() == nullptr) mask_copy_.resize(std::size_t(words_) * height_);
   }
 
-  double Extract(const std::vector<CellIndex>& /*edges*/, const Vec2& sensor, Backend* backend,
-                 std::vector<Vec2>* polygon) override {
-    backend->ReadFree(free_.data());
-    log_odds_ = nullptr;
-    FreeWhereTheVehicleStands(sensor, backend);
-    // The margin after: it may keep out cells near the vehicle, but never the sensor's own.
-    if (margin_ != nullptr) margin_->Apply(LogOdds(backend), sensor, free_.data());
-    return builder_.Build(free_.data(), sensor, polygon);
+  void CastRays(const Vec2& sensor, CellIndex /*vehicle*/, Backend* backend,
+                std::vector<CellIndex>* edges, StageTimes* times) override {
+    const Clock::time_point start = Clock::now();
+    sensor_ = MakeSensorCell(sensor, width_, height_);
+    backend->Mask(sensor_);
+    const Clock::time_point masked = Clock::now();
+    backend->InSightExact(sensor_, &stops_, edges);
+    mask_.bits = backend->HostMaskBits();
+    if (mask_.bits == nullptr) {  // only the rows the rays could reach
+      int r0 = height_, r1 = 0;
+      for (const CellIndex& e : *edges) {
+        r0 = std::min(r0, e.row);
+        r1 = std::max(r1, e.row + 1);
+      }
+      r0 = std::max(0, std::min(r0, sensor_.cell.row) - 1);
+      r1 = std::min(height_, std::max(r1, sensor_.cell.row + 1) + 1);
+      backend->ReadMaskBits(r0, r1, mask_copy_.data());
+      mask_.bits = mask_copy_.data();
+    }
+    times->mask_us = Micros(start, masked);
+    times->insight_us = Micros(masked, Clock::now());
+  }
+
+  bool Extract(const std::vector<CellIndex>& /*edges*/, const Vec2& /*sensor*/,
+               std::vector<Vec2>* polygon, double* error) override {
+    mask_.width = width_;
+    mask_.height = height_;
+    mask_.words = words_;
+    return builder_.Build(mask_, sensor_, stops_, polygon, error);
   }
 
  private:
-  // The map on the host; on a device backend read back once per scan, when first needed.
-  const freespace::LogOdds* LogOdds(Backend* backend) {
-    if (log_odds_ != nullptr) return log_odds_;
-    log_odds_ = backend->HostLogOdds();
-    if (log_odds_ == nullptr) {
-      backend->ReadLogOdds(log_odds_copy_.data());
-      log_odds_ = log_odds_copy_.data();
-    }
-    return log_odds_;
-  }
-
-  // The opening removes free space narrower than the vehicle, and so the apex of the scans'
-  // free wedge at the sensor, where the vehicle itself stands (on the first scans that is all
-  // there is near it). For the conservative polygon the sensor's own cell is free (as it never
-  // stops an in-sight ray), and so is every cell within the opening's radius of it that the
-  // scans saw free more often than occupied (log-odds below 0).
-  void FreeWhereTheVehicleStands(const Vec2& sensor, Backend* backend) {
-    const int col = int(std::floor(sensor.x())), row = int(std::floor(sensor.y()));
-    if (col < 0 || row < 0 || col >= width_ || row >= height_) return;
-    free_[std::size_t(row) * width_ + col] = 1;
-    const int h = opening_radius_;
-    for (int r = std::max(0, row - h); r <= std::min(height_ - 1, row + h); ++r) {
-      for (int c = std::max(0, col - h); c <= std::min(width_ - 1, col + h); ++c) {
-        const std::size_t i = std::size_t(r) * width_ + c;
-        // The map only now: on a device backend it is read back for this.
-        if (!free_[i] && LogOdds(backend)[i] < 0) free_[i] = 1;
-      }
-    }
-  }
-
-  int width_, height_, opening_radius_;
+  int width_, height_, words_;
   InsidePolygonBuilder builder_;
-  std::unique_ptr<PolygonMargin> margin_;  // polygon.margin_cells > 0 only
-  std::vector<std::uint8_t> free_;         // the free mask, read back every scan
-  const freespace::LogOdds* log_odds_ = nullptr;
-  std::vector<freespace::LogOdds> log_odds_copy_;  // device backends: the map, read back
+  SensorCell sensor_;
+  std::vector<RayStop> stops_;
+  MaskView mask_;
+  std::vector<std::uint64_t> mask_copy_;  // device backends: the mask rows read back
 };
 
 }  // namespace

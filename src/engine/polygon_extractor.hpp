@@ -1,6 +1,6 @@
 // The free-space polygon of a scan (polygon.shape), one implementation per shape, chosen once
-// when the estimator is built: the paper's (C_Edge cell centres, capped Douglas-Peucker) or the
-// conservative one that covers free cells only.
+// when the estimator is built: the paper's (the in-sight edges' cell centres, capped
+// Douglas-Peucker) or the conservative one that covers cells of the polygon mask only.
 #pragma once
 
 #include <memory>
@@ -8,6 +8,7 @@
 
 #include "core/backend.hpp"
 #include "freespace/config.hpp"
+#include "freespace/result.hpp"
 #include "freespace/types.hpp"
 
 namespace freespace {
@@ -16,11 +17,17 @@ class PolygonExtractor {
  public:
   virtual ~PolygonExtractor() = default;
 
-  // Builds the polygon (counter-clockwise, map cells, at most polygon.max_vertices vertices)
-  // around the sensor at `sensor` (map cells) from C_Edge (`edges`) or the classified map of
-  // `backend`. Returns the simplification error in cells.
-  virtual double Extract(const std::vector<CellIndex>& edges, const Vec2& sensor, Backend* backend,
-                         std::vector<Vec2>* polygon) = 0;
+  // The border rays from the sensor at `sensor` (map cells; its cell `vehicle`) on the
+  // classified map of `backend`: kernel stage 4 (for the conservative polygon stage 3b, the
+  // polygon mask, first). Writes C_Edge into `edges`; adds the stages' times to `times`.
+  virtual void CastRays(const Vec2& sensor, CellIndex vehicle, Backend* backend,
+                        std::vector<CellIndex>* edges, StageTimes* times) = 0;
+
+  // Builds the polygon (counter-clockwise, map cells, at most polygon.max_vertices distinct
+  // vertices) from the rays of the last CastRays(). Returns false, with `polygon` empty, when
+  // nothing around the sensor is free. `error`: the simplification error in cells.
+  virtual bool Extract(const std::vector<CellIndex>& edges, const Vec2& sensor,
+                       std::vector<Vec2>* polygon, double* error) = 0;
 };
 
 // For `backend`, which the extractor is then given on every call.

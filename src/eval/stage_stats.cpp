@@ -20,6 +20,7 @@ void StageSeries::Add(const StageTimes& t) {
   rasterize_.push_back(t.rasterize_us);
   fuse_.push_back(t.fuse_us);
   classify_.push_back(t.classify_us);
+  mask_.push_back(t.mask_us);
   insight_.push_back(t.insight_us);
   polygon_.push_back(t.polygon_us);
   total_.push_back(t.total_us);
@@ -30,7 +31,8 @@ nlohmann::json StageSeries::Summary() const {
   const std::pair<const char*, const std::vector<double>*> stages[] = {
       {"preprocess", &preprocess_}, {"align", &align_},
       {"rasterize", &rasterize_},   {"fuse", &fuse_},
-      {"classify", &classify_},     {"insight", &insight_},
+      {"classify", &classify_},     {"mask", &mask_},
+      {"insight", &insight_},
       {"polygon", &polygon_},       {"total", &total_}};
   for (const auto& [name, series] : stages) {
     std::vector<double> v = *series;
@@ -46,6 +48,7 @@ const std::vector<double>* StageSeries::Stage(const std::string& name) const {
   if (name == "rasterize") return &rasterize_;
   if (name == "fuse") return &fuse_;
   if (name == "classify") return &classify_;
+  if (name == "mask") return &mask_;
   if (name == "insight") return &insight_;
   if (name == "polygon") return &polygon_;
   return &total_;

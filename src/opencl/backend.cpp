@@ -68,7 +68,9 @@ std::string OpenClBackend::BuildOptions(const KernelParams& p, int vectors_per_i
     << p.t_low << ") -DT_HIGH=(" << p.t_high << ") -DOPENING_RADIUS=" << p.opening_radius
     << " -DFIXED_BITS=" << kFixedBits << " -DUPDATE_NONE=" << int(kUpdateNone)
     << " -DUPDATE_FREE=" << int(kUpdateFree) << " -DUPDATE_OCCUPIED=" << int(kUpdateOccupied)
-    << " -DRASTER_GROUP=" << raster_group << " -DRASTER_SERIAL=" << (bands ? 1 : 0);
+    << " -DRASTER_GROUP=" << raster_group << " -DRASTER_SERIAL=" << (bands ? 1 : 0)
+    << " -DMARGIN_CELLS=" << p.margin_cells << " -DCONE_COS=(" << p.cone_cos << ") -DCONE_SIN=("
+    << p.cone_sin << ") -DMARGIN_ALL=" << (p.margin_all ? 1 : 0);
   return o.str();
 }
 
@@ -102,6 +104,7 @@ OpenClBackend::OpenClBackend(const KernelParams& params, const BackendConfig& co
   BindInSightArgs();
   BindShiftArgs();
   ChooseWorkSizes(limits);
+  SetUpMask();
   Finish();
 }
 

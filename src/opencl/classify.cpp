@@ -119,6 +119,7 @@ void OpenClBackend::Classify() {
       if (!levels) begin = Retained(split_parts_[0].get());
       end = Retained(split_parts_[0].get());
       free_rows_ = set;
+      if (params_.veto_echoes) VetoEchoes(set, &end);
       SetStage(kClassifyStage, std::move(begin), std::move(end));
       return;
     }
@@ -135,6 +136,7 @@ void OpenClBackend::Classify() {
     BitsLaunch(erode_dilate_.get(), height, nullptr);
     BitsLaunch(dilate_cols_.get(), height, end.out());
   }
+  if (params_.veto_echoes) VetoEchoes(set, &end);
   free_rows_ = set;
   SetStage(kClassifyStage, std::move(begin), std::move(end));
 }

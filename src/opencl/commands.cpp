@@ -200,7 +200,7 @@ void OpenClBackend::WriteFree(const std::uint8_t* src) {
 
 bool OpenClBackend::KernelTimes(StageTimes* times) const {
   double* fields[kStageCount] = {&times->rasterize_us, &times->fuse_us, &times->classify_us,
-                                 &times->insight_us};
+                                 &times->insight_us, &times->mask_us};
   bool any = false;
   for (int s = 0; s < kStageCount; ++s) {
     if (!begin_[s] || !end_[s]) continue;

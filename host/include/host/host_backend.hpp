@@ -32,7 +32,11 @@ class HostBackend final : public Backend {
   void CastRays(const RayJob& job) override;                                // host/rays.cpp
   void FuseRays(int row_begin, int row_end) override;                       // host/rays.cpp
   void Classify() override;                                                 // host/classify.cpp
+  void SetEchoes(const std::int32_t* cells, int count) override;            // host/classify.cpp
+  void Mask(const SensorCell& sensor) override;                             // host/mask.cpp
   void InSight(CellIndex vehicle, std::vector<CellIndex>* edges) override;  // host/insight.cpp
+  void InSightExact(const SensorCell& sensor, std::vector<RayStop>* stops,  // host/insight.cpp
+                    std::vector<CellIndex>* edges) override;
   void Shift(int dx, int dy) override;                                      // host/shift.cpp
   void Clear() override;
 
@@ -44,7 +48,10 @@ class HostBackend final : public Backend {
   void ReadRayDelta(std::int32_t* dst) override;
   void WriteFree(const std::uint8_t* src) override;
 
+  void ReadMaskBits(int row_begin, int row_end, std::uint64_t* dst) override;
+
   const LogOdds* HostLogOdds() const override { return map_.data(); }
+  const std::uint64_t* HostMaskBits() const override { return mask_.data(); }
 
  private:
   std::size_t cells() const { return std::size_t(params_.width) * params_.height; }
@@ -61,9 +68,14 @@ class HostBackend final : public Backend {
   RowSpan bits_rows_;
   RowSpan free_rows_;
   std::vector<std::uint8_t> update_;  // stage 1 -> stage 2
-  // Stage 3 bitsets, 64 cells a word, rows of (width + 63) / 64 words.
-  std::vector<std::uint64_t> bits_strong_, bits_weak_, bits_a_, bits_b_;
+  // Stage 3 bitsets, 64 cells a word, rows of (width + 63) / 64 words; bits_occupied_: log-odds
+  // above 0, for the margin of stage 3b, on the rows of bits_rows_.
+  std::vector<std::uint64_t> bits_strong_, bits_weak_, bits_a_, bits_b_, bits_occupied_;
   std::vector<std::uint64_t> free_;       // stage 3 output, stage 4 input: bitset rows
+  std::vector<std::uint64_t> echo_;       // this scan's echo cells (SetEchoes), bitset rows
+  std::vector<std::int32_t> echo_cells_;  // and as given, to clear them for the next scan
+  std::vector<std::uint64_t> mask_;       // stage 3b output: the polygon mask, bitset rows
+  RowSpan mask_rows_;                     // every row of mask_ with a set bit
   std::vector<std::uint64_t> edge_seen_;  // stage 4: stop cells already in C_Edge (bitset)
   std::vector<std::int32_t> stop_;        // stage 4: stop cell per label
   std::vector<std::int32_t> delta_;       // conventional model: per-cell sum of one scan's rays

@@ -11,19 +11,15 @@
 #include <string>
 #include <vector>
 
+#include "core/exact_ray.hpp"
 #include "freespace/config.hpp"
 #include "freespace/result.hpp"
+#include "core/fixed_point.hpp"
 #include "freespace/types.hpp"
 
 namespace freespace {
 
 class Crew;
-
-// Polygon vertices reach the kernels in fixed point: 1/256 of a cell, in map cell coordinates
-// (x = column axis, y = row axis). Integer geometry keeps every backend exact.
-inline constexpr int kFixedBits = 8;
-inline constexpr std::int32_t kFixedOne = 1 << kFixedBits;
-inline constexpr std::int32_t kFixedHalf = kFixedOne / 2;
 
 // Values of the per-scan update mask written by stage 1 and read by stage 2.
 inline constexpr std::uint8_t kUpdateNone = 0;
@@ -41,7 +37,19 @@ struct KernelParams {
   LogOdds t_low = 0;       // free if l <= t_low
   LogOdds t_high = 0;      // weak free if l <= t_high (free when next to a t_low cell)
   int opening_radius = 0;  // opening element is a square of side 2 * radius + 1 cells
+  // The per-scan veto (classify.veto_current_echoes): this scan's echo cells are not free.
+  bool veto_echoes = false;
+  // The polygon mask's safety margin (stage 3b): `margin_cells` k (0: none), and the cone's
+  // half-angle as its cosine and sine times kConeOne, rounded (the cone's edges are the
+  // offset's direction turned by +-half-angle, in integers); all around when margin_all.
+  int margin_cells = 0;
+  std::int32_t cone_cos = 0;
+  std::int32_t cone_sin = 0;
+  bool margin_all = true;
 };
+
+// The scale of KernelParams::cone_cos and cone_sin.
+inline constexpr std::int32_t kConeOne = 1 << 20;
 
 // Converts probabilities to fixed-point log-odds (round to nearest) and thresholds (floor, so
 // that "p <= t" and "l <= T" agree on every representable l).
@@ -49,6 +57,27 @@ KernelParams MakeKernelParams(const Config& config);
 LogOdds LogOddsFromProbability(double p);
 LogOdds LogOddsThreshold(double p);
 double ProbabilityFromLogOdds(LogOdds l);
+
+// Whether the line of sight from the sensor (fixed point, kFixedBits) through the centre of cell
+// (col, row) continues within the margin's cone toward the cell at offset (dx, dy) from it: the
+// angle between (dx, dy) and the line of sight is at most the cone's half-angle. Integers only,
+// so that every backend decides alike (kernels/mask.cl mirrors it).
+inline bool InMarginCone(const KernelParams& p, std::int32_t sensor_x, std::int32_t sensor_y,
+                         int col, int row, int dx, int dy) {
+  if (p.margin_all) return true;
+  const std::int64_t vx = std::int64_t(col) * kFixedOne + kFixedHalf - sensor_x;
+  const std::int64_t vy = std::int64_t(row) * kFixedOne + kFixedHalf - sensor_y;
+  // The cone's edges: (dx, dy) turned by +half-angle (e1) and by -half-angle (e2).
+  const std::int64_t e1x = std::int64_t(dx) * p.cone_cos - std::int64_t(dy) * p.cone_sin;
+  const std::int64_t e1y = std::int64_t(dx) * p.cone_sin + std::int64_t(dy) * p.cone_cos;
+  const std::int64_t e2x = std::int64_t(dx) * p.cone_cos + std::int64_t(dy) * p.cone_sin;
+  const std::int64_t e2y = -std::int64_t(dx) * p.cone_sin + std::int64_t(dy) * p.cone_cos;
+  const bool after_e2 = e2x * vy - e2y * vx >= 0;   // counter-clockwise of e2, or on it
+  const bool before_e1 = vx * e1y - vy * e1x >= 0;  // clockwise of e1, or on it
+  // A cone up to a right angle is the wedge between its edges; a wider one the union of the
+  // half-planes they bound.
+  return p.cone_cos >= 0 ? (after_e2 && before_e1) : (after_e2 || before_e1);
+}
 
 // Input of kernel stage 1 for one scan.
 struct RasterJob {
@@ -178,6 +207,31 @@ class Backend {
   // border cell. Writes C_Edge into `edges`: the distinct stop cells in the order of the
   // smallest label that stopped there. `edges` must have capacity BorderLabelCount().
   virtual void InSight(CellIndex vehicle, std::vector<CellIndex>* edges) = 0;
+
+  // The per-scan veto layer: the cells holding a kept echo of this scan (row * width + col,
+  // inside the map; repeats allowed), in place of the last scan's. With params.veto_echoes the
+  // next Classify() keeps them out of the free mask; Mask() counts them as occupied.
+  virtual void SetEchoes(const std::int32_t* cells, int count) = 0;
+
+  // Kernel stage 3b, after Classify() (polygon.shape inside): the polygon mask. A cell is in it
+  // when it is free in the free mask, or lies within opening_radius (Chebyshev) of the sensor's
+  // cell with log-odds below 0 and no echo of this scan; and no occupied cell (log-odds above
+  // 0, or an echo of this scan) lies within margin_cells of it (Chebyshev) in the margin's cone
+  // (InMarginCone). The sensor's own cell always is.
+  virtual void Mask(const SensorCell& sensor) = 0;
+
+  // Kernel stage 4 of the conservative polygon, after Mask(): an exact ray (TraceExactRay) from
+  // the sensor to the centre of every border cell, in label order, on the polygon mask. Writes
+  // each label's stop into `stops` (resized to BorderLabelCount()) and C_Edge from the stop
+  // cells into `edges`, as InSight() does.
+  virtual void InSightExact(const SensorCell& sensor, std::vector<RayStop>* stops,
+                            std::vector<CellIndex>* edges) = 0;
+
+  // The polygon mask as bitset rows of (width + 63) / 64 words (bit c % 64 of word c / 64): a
+  // pointer when the backend keeps it in host memory, else null; and a copy of rows
+  // [row_begin, row_end) into the same rows of `dst` (width * height cells of bitset rows).
+  virtual const std::uint64_t* HostMaskBits() const { return nullptr; }
+  virtual void ReadMaskBits(int row_begin, int row_end, std::uint64_t* dst) = 0;
 
   // Moves the map by whole cells: new(r, c) = old(r + dy, c + dx); cells with no old
   // counterpart are unknown (0).

@@ -1,6 +1,10 @@
-// The conservative free-space polygon (polygon.shape inside): the border rays cast exactly
-// from the sensor on the free mask, simplified like the paper's polygon, then pulled toward the
-// sensor until it covers free cells only.
+// The conservative free-space polygon (polygon.shape inside): a star-shaped polygon around the
+// sensor, at most N vertices, every point of which lies in a cell of the polygon mask (the free
+// mask less the safety margin, kernel stage 3b) or on such a cell's edge. It is built from the
+// exact border rays of stage 4 (core/exact_ray.hpp), which end where they first meet a cell
+// outside the mask: the ring of their end points, pulled toward the sensor where a cell outside
+// the mask pokes between two neighbouring rays, simplified like the paper's polygon and pulled
+// once more where a simplified edge cuts inside the ring.
 #pragma once
 
 #include <tbb/task_arena.h>
@@ -8,57 +12,69 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/exact_ray.hpp"
 #include "core/simplifier.hpp"
 #include "freespace/types.hpp"
 
 namespace freespace {
 
-// The conservative free-space polygon (polygon.shape inside) on a free mask, in map cells
-// (cell (r, c) spans [c, c+1) x [r, r+1)). Every point of the result lies in a free cell or
-// on a free cell's border; the result is star-shaped around the sensor and has at most N
-// vertices. All memory is allocated in the constructor.
+// The polygon mask as bitset rows: bit c % 64 of word c / 64 of row r (rows `words` words
+// apart) is 1 where cell (r, c) may lie in the polygon.
+struct MaskView {
+  int width = 0;
+  int height = 0;
+  int words = 0;
+  const std::uint64_t* bits = nullptr;
+
+  bool Allowed(int col, int row) const {
+    return (bits[std::size_t(row) * words + (col >> 6)] >> (col & 63)) & 1;
+  }
+};
+
 class InsidePolygonBuilder {
  public:
   // width, height: the map in cells; max_vertices: N (>= 3); epsilon: tolerance in cells;
-  // threads: for the rays (0 = all cores).
+  // threads: for the edges of the ring (0 = all cores). All memory is allocated here.
   InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon, int threads = 0);
 
-  // `free`: width * height bytes, row-major, non-zero where free; `sensor`: the sensor in
-  // cells. Writes the vertices (counter-clockwise) into `polygon`. When the sensor's cell is
-  // not free, no free area contains the sensor and the polygon is the sensor point, three
-  // times. Returns the simplification error as PolygonSimplifier::Simplify does (cells, before
-  // the pull toward the sensor).
-  double Build(const std::uint8_t* free, const Vec2& sensor, std::vector<Vec2>* polygon);
+  // `stops`: the exact rays' stops on `mask`, one per border label (BorderCell order) from the
+  // sensor `s`. Writes the polygon (counter-clockwise, map cells) into `polygon` and returns
+  // true; or leaves `polygon` empty and returns false when nothing around the sensor is in the
+  // mask (every ray ends on the edge of the sensor's own cell). `error`: the simplification
+  // error in cells, as PolygonSimplifier::Simplify returns it.
+  bool Build(const MaskView& mask, const SensorCell& s, const std::vector<RayStop>& stops,
+             std::vector<Vec2>* polygon, double* error);
 
-  // The unsimplified ring of the last Build(): one vertex per border ray where it enters its
-  // first not-free cell (or at the border cell's centre).
+  // The ring of the last Build(), one vertex per distinct border cell, after the pull between
+  // neighbouring rays: the union of its fan triangles around the sensor lies in the mask.
   const std::vector<Vec2>& ring() const { return ring_; }
 
  private:
-  // Fraction t in [0, 1] of the segment sensor -> target that stays in free cells: the ray
-  // stops where it first touches a cell that is not free.
-  double Trace(const std::uint8_t* free, const Vec2& sensor, const Vec2& target) const;
-  // Scales for a and b toward the sensor such that the triangle (sensor,
-  // sensor + scale_a (a - sensor), sensor + scale_b (b - sensor)) overlaps no cell that is not
-  // free: of moving both alike, only b, or only a, the one that keeps the most area.
-  void EdgePull(const std::uint8_t* free, const Vec2& sensor, const Vec2& a, const Vec2& b,
-                double* scale_a, double* scale_b) const;
-  // The not-free blocks of kBlock x kBlock cells, as a summed-area table, for skipping free
-  // parts of a triangle in EdgePull().
-  void CountBlocks(const std::uint8_t* free);
-  // Whether any block meeting cells [r0, r1] x [c0, c1] holds a cell that is not free.
-  bool BlocksNotFree(int r0, int r1, int c0, int c1) const;
-
-  static constexpr int kBlock = 8;
+  // The cells that can reach into the triangle between two neighbouring rays: a box of rows
+  // and columns, narrowed to the sensor's side of a cell edge line that both rays stopped on.
+  struct NearSide {
+    int row_min, row_max, col_min, col_max;
+  };
+  NearSide Near(const Vec2& sensor, const RayStop& a, const RayStop& b) const;
+  // How far a and b may stay of the triangle (sensor, a, b) so that it overlaps no cell outside
+  // the mask, where a and b are neighbouring rays' ends: only cells the edge a -> b meets, on
+  // the `near` side, can reach inside.
+  void PullBetweenRays(const MaskView& mask, const Vec2& sensor, const Vec2& a, const Vec2& b,
+                       const NearSide& near, double* scale_a, double* scale_b) const;
+  // The same for a simplified edge from ring vertex i to ring vertex j: the triangle must stay
+  // inside the ring's fan triangles i .. j.
+  void PullInsideRing(const Vec2& sensor, int i, int j, double* scale_a, double* scale_b) const;
+  // Drops repeated vertices; false when fewer than three distinct ones remain.
+  static bool Distinct(std::vector<Vec2>* polygon);
 
   int width_, height_;
   PolygonSimplifier simplifier_;
+  std::vector<int> labels_;  // one label per distinct border cell, in label order
   std::vector<Vec2> ring_;
+  std::vector<RayStop> ring_stop_;  // how each ring vertex's ray stopped
+  std::vector<double> need_a_, need_b_;  // per ring edge: the scales of its first / last vertex
   std::vector<int> kept_;
   std::vector<double> scale_;
-  std::vector<std::uint32_t> block_sat_;
-  std::vector<std::uint8_t> block_row_;
-  std::vector<Vec2> targets_;  // border cell centres, one per ray
   tbb::task_arena arena_;
 };
 

@@ -46,6 +46,9 @@ class Preprocessor {
   const std::vector<Beam>& beams() const { return beams_; }
   // Echoes that survived the clutter filter (sensor frame).
   const std::vector<EchoPoint>& kept() const { return kept_; }
+  // The map cells holding a kept echo (row * width + col), as the last Project() or
+  // ProjectRays() found them; echoes outside the map left out.
+  const std::vector<std::int32_t>& echo_cells() const { return occupied_; }
   int bins() const { return bins_; }
 
  private:

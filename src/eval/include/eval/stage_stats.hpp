@@ -28,7 +28,8 @@ class StageSeries {
  private:
   const std::vector<double>* Stage(const std::string& name) const;
 
-  std::vector<double> preprocess_, align_, rasterize_, fuse_, classify_, insight_, polygon_, total_;
+  std::vector<double> preprocess_, align_, rasterize_, fuse_, classify_, mask_, insight_, polygon_,
+      total_;
 };
 
 }  // namespace freespace

@@ -49,6 +49,11 @@ class OpenClBackend final : public Backend {
   void CastRays(const RayJob& job) override;                                // rays.cl
   void FuseRays(int row_begin, int row_end) override;                       // rays.cl
   void Classify() override;                                                 // classify.cl
+  void SetEchoes(const std::int32_t* cells, int count) override;            // mask.cl
+  void Mask(const SensorCell& sensor) override;                             // mask.cl
+  void InSightExact(const SensorCell& sensor, std::vector<RayStop>* stops,  // insight.cl
+                    std::vector<CellIndex>* edges) override;
+  void ReadMaskBits(int row_begin, int row_end, std::uint64_t* dst) override;
   void InSight(CellIndex vehicle, std::vector<CellIndex>* edges) override;  // insight.cl
   void Shift(int dx, int dy) override;                                      // shift.cl
   void Clear() override;
@@ -89,7 +94,7 @@ class OpenClBackend final : public Backend {
                                   int raster_group, bool bands);
 
  private:
-  enum Stage { kRasterStage, kFuseStage, kClassifyStage, kInSightStage, kStageCount };
+  enum Stage { kRasterStage, kFuseStage, kClassifyStage, kInSightStage, kMaskStage, kStageCount };
 
   std::size_t cells() const { return std::size_t(params_.width) * params_.height; }
   std::size_t labels() const {
@@ -118,6 +123,10 @@ class OpenClBackend final : public Backend {
   void BindShiftArgs();      // shift.cpp
   void BindRaysArgs();       // rays.cpp
   void BindRaysJob();        // rays.cpp
+  void SetUpMask();          // mask.cpp: stage 3b's and the exact rays' kernels and buffers
+  // Enqueues the veto (this scan's echoes out of the free mask) on rows `rows`; its event
+  // becomes `*end` (mask.cpp).
+  void VetoEchoes(RowSpan rows, opencl::Event* end);
   void ChooseWorkSizes(const DeviceLimits& limits);
   opencl::Kernel MakeKernel(const char* name) const;
   std::size_t LocalSize(cl_kernel kernel, std::size_t preferred) const;
@@ -267,6 +276,21 @@ class OpenClBackend final : public Backend {
   std::vector<std::uint64_t> free_host_;  // the free mask for ReadFree() / WriteFree()
   std::vector<std::int32_t> row_counts_;  // counting sort of the occupied cells by row
   opencl::Event upload_done_;             // the last upload from job_host_
+
+  // Stage 3b and the exact rays (mask.cpp, kernels/mask.cl, insight_exact in insight.cl).
+  opencl::Kernel mask_veto_, mask_occupied_, mask_rows_, insight_exact_;
+  opencl::Mem echo_;           // this scan's echo cells, bitset rows (uploaded by SetEchoes)
+  opencl::Mem occupied_bits_;  // the map's log-odds above 0, bitset rows
+  opencl::Mem mask_;           // the polygon mask, bitset rows
+  opencl::Mem exact_stops_;    // the exact rays' stops, 3 ints a label
+  std::vector<std::uint64_t> echo_host_;  // the echo bitset's staging
+  std::vector<std::int32_t> echo_cells_;  // its cells, to clear them for the next scan
+  RowSpan echo_rows_;                     // the rows of echo_host_ with a set bit
+  opencl::Event echo_upload_;             // the last upload from echo_host_
+  RowSpan mask_span_;                     // the rows of mask_ with a set bit
+  std::vector<std::int32_t> exact_host_;  // the stops as read back
+  std::size_t exact_local_ = 1, exact_global_ = 1;
+  std::size_t row_local_ = 1;  // the work-group of the kernels with a work-item per row
 
   mutable std::array<opencl::Event, kStageCount> begin_, end_;
   mutable std::array<std::vector<opencl::Event>, kStageCount> more_;

@@ -1,0 +1,90 @@
+// Kernel stage 3b on the host: the polygon mask of the conservative polygon (polygon.shape
+// inside). Mirrors kernels/mask.cl.
+//
+// The free mask, plus the cells around the sensor the opening took but the scans saw free more
+// often than occupied, less the safety margin: a cell with an occupied neighbour (the map's
+// log-odds above 0, or an echo of this scan) within margin_cells, where the line of sight from
+// the sensor through the cell runs on toward that neighbour (InMarginCone). The echoes of this
+// scan count as occupied, so that a vehicle now in a place the map still holds free keeps its
+// margin too. A row at a time, as bitsets; only the cells next to an occupied one are tested
+// for the cone.
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+#include "host/host_backend.hpp"
+
+namespace freespace {
+namespace {
+
+// Bits start .. start + 63 of a bitset row of `words` words, 0 outside it.
+std::uint64_t Bits64(const std::uint64_t* row, int words, int start) {
+  const int w = start >> 6, offset = start & 63;  // start >> 6 floors negative starts too
+  const auto at = [&](int i) { return (i >= 0 && i < words) ? row[i] : std::uint64_t{0}; };
+  return offset == 0 ? at(w) : (at(w) >> offset) | (at(w + 1) << (64 - offset));
+}
+
+}  // namespace
+
+void HostBackend::Mask(const SensorCell& sensor) {
+  const int width = params_.width, height = params_.height, nw = words();
+  const int h = params_.opening_radius, k = params_.margin_cells;
+  const RowSpan stand{std::max(0, sensor.cell.row - h), std::min(height, sensor.cell.row + h + 1)};
+  const RowSpan span = free_rows_.Hull(stand);
+  const RowSpan write = span.Hull(mask_rows_);
+  const LogOdds* map = map_.data();
+  auto mask_row = [&](int r) {
+    std::uint64_t* out = mask_.data() + std::size_t(r) * nw;
+    if (r < span.begin || r >= span.end) {
+      std::fill(out, out + nw, std::uint64_t{0});
+      return;
+    }
+    std::copy(free_.data() + std::size_t(r) * nw, free_.data() + std::size_t(r + 1) * nw, out);
+    const std::uint64_t* echo = echo_.data() + std::size_t(r) * nw;
+    if (r >= stand.begin && r < stand.end) {
+      for (int c = std::max(0, sensor.cell.col - h); c <= std::min(width - 1, sensor.cell.col + h);
+           ++c) {
+        if (map[std::size_t(r) * width + c] < 0 && !((echo[c >> 6] >> (c & 63)) & 1)) {
+          out[c >> 6] |= std::uint64_t{1} << (c & 63);
+        }
+      }
+    }
+    if (k > 0) {
+      std::uint64_t kill[128] = {};
+      std::uint64_t near[128];
+      for (int dy = -k; dy <= k; ++dy) {
+        const int rr = r + dy;
+        if (rr < 0 || rr >= height) continue;
+        const std::uint64_t* occ = bits_occupied_.data() + std::size_t(rr) * nw;
+        const std::uint64_t* ech = echo_.data() + std::size_t(rr) * nw;
+        for (int w = 0; w < nw; ++w) near[w] = occ[w] | ech[w];
+        for (int dx = -k; dx <= k; ++dx) {
+          if (dx == 0 && dy == 0) continue;
+          for (int w = 0; w < nw; ++w) {
+            std::uint64_t candidates = out[w] & ~kill[w] & Bits64(near, nw, w * 64 + dx);
+            while (candidates != 0) {
+              const int bit = __builtin_ctzll(candidates);
+              candidates &= candidates - 1;
+              if (InMarginCone(params_, sensor.x, sensor.y, w * 64 + bit, r, dx, dy)) {
+                kill[w] |= std::uint64_t{1} << bit;
+              }
+            }
+          }
+        }
+      }
+      for (int w = 0; w < nw; ++w) out[w] &= ~kill[w];
+    }
+    if (r == sensor.cell.row) out[sensor.cell.col >> 6] |= std::uint64_t{1} << (sensor.cell.col & 63);
+  };
+  if (!write.empty()) {
+    arena_.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<int>(write.begin, write.end, 16),
+                        [&](const tbb::blocked_range<int>& range) {
+                          for (int r = range.begin(); r != range.end(); ++r) mask_row(r);
+                        });
+    });
+  }
+  mask_rows_ = span;
+}
+
+}  // namespace freespace

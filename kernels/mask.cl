@@ -1,0 +1,115 @@
+// Kernel stage 3b: the polygon mask of the conservative polygon (polygon.shape inside), and the
+// per-scan veto of stage 3. Mirrors host/mask.cpp and host/classify.cpp's veto; host side:
+// src/opencl/mask.cpp (argument namespaces mask_veto_arg, mask_occupied_arg, mask_rows_arg).
+//
+// mask_veto: one work-item per row of the free mask: the cells holding an echo of this scan
+// (a bitset the host uploads) are not free, whatever the map holds.
+// mask_occupied: one work-item per row: the occupied bits (log-odds above 0) of the map.
+// mask_rows: one work-item per row of the polygon mask: the free mask, plus the cells within
+// OPENING_RADIUS of the sensor's cell with log-odds below 0 and no echo, less every cell with an
+// occupied neighbour (the map's or an echo) within MARGIN_CELLS in the margin's cone, plus the
+// sensor's own cell. Bitsets of BIT_WORDS ulong words a row (common.cl).
+//
+// Build options: those of common.cl, OPENING_RADIUS, MARGIN_CELLS, CONE_COS, CONE_SIN (the
+// cone's half-angle times 2^20) and MARGIN_ALL (1: the margin all around).
+
+__kernel void mask_veto(__global ulong* free, __global const ulong* echo, int first_row,
+                        int end_row) {
+  const int r = first_row + (int)get_global_id(0);
+  if (r >= end_row) return;
+  for (int w = 0; w < BIT_WORDS; ++w) free[r * BIT_WORDS + w] &= ~echo[r * BIT_WORDS + w];
+}
+
+__kernel void mask_occupied(__global const short* map, __global ulong* occupied, int first_row,
+                            int end_row) {
+  const int r = first_row + (int)get_global_id(0);
+  if (r >= end_row) return;
+  for (int w = 0; w < BIT_WORDS; ++w) {
+    ulong bits = 0;
+    for (int i = 0; i < 64 && 64 * w + i < WIDTH; ++i) {
+      bits |= (ulong)(map[CELL(r, 64 * w + i)] > 0) << i;
+    }
+    occupied[r * BIT_WORDS + w] = bits;
+  }
+}
+
+// Bits start .. start + 63 of a bitset row, 0 outside it.
+ulong MaskBits64(__global const ulong* row, int start) {
+  const int w = start >> 6, offset = start & 63;
+  const ulong lo = (w >= 0 && w < BIT_WORDS) ? row[w] : 0;
+  if (offset == 0) return lo;
+  const ulong hi = (w + 1 >= 0 && w + 1 < BIT_WORDS) ? row[w + 1] : 0;
+  return (lo >> offset) | (hi << (64 - offset));
+}
+
+// InMarginCone() of src/core/include/core/backend.hpp.
+bool MaskInCone(int sensor_x, int sensor_y, int col, int row, int dx, int dy) {
+#if MARGIN_ALL
+  return true;
+#else
+  const long vx = (long)col * (1 << FIXED_BITS) + (1 << (FIXED_BITS - 1)) - sensor_x;
+  const long vy = (long)row * (1 << FIXED_BITS) + (1 << (FIXED_BITS - 1)) - sensor_y;
+  const long e1x = (long)dx * CONE_COS - (long)dy * CONE_SIN;
+  const long e1y = (long)dx * CONE_SIN + (long)dy * CONE_COS;
+  const long e2x = (long)dx * CONE_COS + (long)dy * CONE_SIN;
+  const long e2y = -(long)dx * CONE_SIN + (long)dy * CONE_COS;
+  const bool after_e2 = e2x * vy - e2y * vx >= 0;
+  const bool before_e1 = vx * e1y - vy * e1x >= 0;
+  return CONE_COS >= 0 ? (after_e2 && before_e1) : (after_e2 || before_e1);
+#endif
+}
+
+// The margin's cells among the candidates `out` of row r: those with an occupied neighbour
+// (occupied or echo) within MARGIN_CELLS in the cone, into kill.
+void MaskMargin(__global const ulong* occupied, __global const ulong* echo, int r, int sensor_x,
+                int sensor_y, const ulong* out, ulong* kill) {
+  for (int dy = -MARGIN_CELLS; dy <= MARGIN_CELLS; ++dy) {
+    const int rr = r + dy;
+    if (rr < 0 || rr >= HEIGHT) continue;
+    __global const ulong* occ = occupied + rr * BIT_WORDS;
+    __global const ulong* ech = echo + rr * BIT_WORDS;
+    for (int dx = -MARGIN_CELLS; dx <= MARGIN_CELLS; ++dx) {
+      if (dx == 0 && dy == 0) continue;
+      for (int w = 0; w < BIT_WORDS; ++w) {
+        ulong candidates =
+            out[w] & ~kill[w] & (MaskBits64(occ, w * 64 + dx) | MaskBits64(ech, w * 64 + dx));
+        while (candidates != 0) {
+          const int bit = 63 - (int)clz(candidates & (~candidates + 1UL));
+          candidates &= candidates - 1;
+          if (MaskInCone(sensor_x, sensor_y, w * 64 + bit, r, dx, dy)) kill[w] |= 1UL << bit;
+        }
+      }
+    }
+  }
+}
+
+__kernel void mask_rows(__global const ulong* free, __global const ulong* echo,
+                        __global const ulong* occupied, __global const short* map,
+                        __global ulong* mask, int first_row, int end_row, int span_begin,
+                        int span_end, int sensor_x, int sensor_y, int sensor_col,
+                        int sensor_row) {
+  const int r = first_row + (int)get_global_id(0);
+  if (r >= end_row) return;
+  __global ulong* row = mask + r * BIT_WORDS;
+  if (r < span_begin || r >= span_end) {
+    for (int w = 0; w < BIT_WORDS; ++w) row[w] = 0;
+    return;
+  }
+  ulong out[BIT_WORDS];
+  for (int w = 0; w < BIT_WORDS; ++w) out[w] = free[r * BIT_WORDS + w];
+  __global const ulong* ech = echo + r * BIT_WORDS;
+  if (abs(r - sensor_row) <= OPENING_RADIUS) {
+    for (int c = max(0, sensor_col - OPENING_RADIUS);
+         c <= min(WIDTH - 1, sensor_col + OPENING_RADIUS); ++c) {
+      if (map[CELL(r, c)] < 0 && !((ech[c >> 6] >> (c & 63)) & 1)) out[c >> 6] |= 1UL << (c & 63);
+    }
+  }
+#if MARGIN_CELLS > 0
+  ulong kill[BIT_WORDS];
+  for (int w = 0; w < BIT_WORDS; ++w) kill[w] = 0;
+  MaskMargin(occupied, echo, r, sensor_x, sensor_y, out, kill);
+  for (int w = 0; w < BIT_WORDS; ++w) out[w] &= ~kill[w];
+#endif
+  if (r == sensor_row) out[sensor_col >> 6] |= 1UL << (sensor_col & 63);
+  for (int w = 0; w < BIT_WORDS; ++w) row[w] = out[w];
+}
