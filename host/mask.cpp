@@ -51,8 +51,21 @@ void HostBackend::Mask(const SensorCell& sensor) {
     }
     if (k > 0) {
       std::uint64_t kill[128] = {};
-      std::uint64_t near[128];
+      std::uint64_t near[128], column[128] = {}, any[128] = {};
+      // The cells with an occupied cell within k at all, so that the words without are skipped.
       for (int dy = -k; dy <= k; ++dy) {
+        const int rr = r + dy;
+        if (rr < 0 || rr >= height) continue;
+        for (int w = 0; w < nw; ++w) {
+          column[w] |= bits_occupied_[std::size_t(rr) * nw + w] | echo_[std::size_t(rr) * nw + w];
+        }
+      }
+      bool none = true;
+      for (int w = 0; w < nw; ++w) {
+        for (int dx = -k; dx <= k; ++dx) any[w] |= Bits64(column, nw, w * 64 + dx);
+        none = none && (out[w] & any[w]) == 0;
+      }
+      for (int dy = -k; dy <= k && !none; ++dy) {
         const int rr = r + dy;
         if (rr < 0 || rr >= height) continue;
         const std::uint64_t* occ = bits_occupied_.data() + std::size_t(rr) * nw;
@@ -61,6 +74,7 @@ void HostBackend::Mask(const SensorCell& sensor) {
         for (int dx = -k; dx <= k; ++dx) {
           if (dx == 0 && dy == 0) continue;
           for (int w = 0; w < nw; ++w) {
+            if ((out[w] & any[w]) == 0) continue;
             std::uint64_t candidates = out[w] & ~kill[w] & Bits64(near, nw, w * 64 + dx);
             while (candidates != 0) {
               const int bit = __builtin_ctzll(candidates);

@@ -30,6 +30,12 @@ namespace {
 
 double Cross(const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); }
 
+// floor(x) for |x| < 2^31, without a library call.
+int Floor(double x) {
+  const int i = int(x);
+  return i - (x < i);
+}
+
 // Below this area (cells^2) a triangle or an overlap counts as none: rounding only.
 constexpr double kAreaTolerance = 1e-9;
 // Cells within this distance of an edge are tested: rounding must not hide a crossed one.
@@ -85,6 +91,16 @@ struct PullBounds {
   // Limits them by cell (row, col), which lies outside the mask, for the triangle (sensor,
   // sensor + u, sensor + v) of twice the area det > 0.
   void Limit(int row, int col, const Vec2& sensor, const Vec2& u, const Vec2& v, double det) {
+    // Wholly beyond the edge u -> v (up to rounding: the cells a ray ended on): nothing to
+    // limit. The edge's normal towards the sensor, against each corner.
+    const Vec2 normal(u.y() - v.y(), v.x() - u.x());  // (v - u) turned left
+    const double reach = kEdgeTolerance * det;       // det = normal . (0 - u) relative
+    bool near = false;
+    for (const Vec2& corner :
+         {Vec2(col, row), Vec2(col + 1, row), Vec2(col + 1, row + 1), Vec2(col, row + 1)}) {
+      near = near || normal.dot(corner - sensor - u) > reach;
+    }
+    if (!near) return;
     Clip cell;
     double least = INFINITY;
     for (const Vec2& corner :
@@ -95,7 +111,6 @@ struct PullBounds {
       ab[1] = Cross(u, w) / det;
       least = std::min(least, ab[0] + ab[1]);
     }
-    // Wholly beyond the edge (up to rounding: the cells a ray ended on): nothing to limit.
     if (least >= 1.0 - kEdgeTolerance) return;
     cell.Cut(0, 1, 0);         // alpha >= 0
     cell.Cut(0, 0, 1);         // beta >= 0
@@ -147,10 +162,13 @@ InsidePolygonBuilder::InsidePolygonBuilder(int width, int height, int max_vertic
     last = cell;
     labels_.push_back(l);
   }
-  ring_.reserve(labels_.size());
-  ring_stop_.resize(labels_.size());
+  ring_.reserve(2 * labels_.size());
+  end_.reserve(labels_.size());
+  end_stop_.resize(labels_.size());
   need_a_.resize(labels_.size());
   need_b_.resize(labels_.size());
+  corner_.resize(labels_.size());
+  corner_at_.resize(labels_.size());
   kept_.reserve(std::size_t(std::max(max_vertices, 3)) + 1);
   scale_.reserve(std::size_t(std::max(max_vertices, 3)) + 1);
 }
@@ -163,10 +181,22 @@ void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sen
   const double det = Cross(u, v);        // twice the triangle's area
   if (det <= kAreaTolerance) return;     // no area: the edge runs along its rays
   PullBounds bounds;
-  // The cells the edge a -> b meets, a row at a time, found 64 cells a word.
   const double y0 = std::min(a.y(), b.y()) - kReach, y1 = std::max(a.y(), b.y()) + kReach;
-  const int r0 = std::max(near.row_min, int(std::floor(y0)));
-  const int r1 = std::min(near.row_max, int(std::floor(y1)));
+  const int r0 = std::max(near.row_min, int(Floor(y0)));
+  const int r1 = std::min(near.row_max, int(Floor(y1)));
+  const int c0 = std::max(near.col_min, int(Floor(std::min(a.x(), b.x()) - kReach)));
+  const int c1 = std::min(near.col_max, int(Floor(std::max(a.x(), b.x()) + kReach)));
+  if ((r1 - r0 + 1) * (c1 - c0 + 1) <= 6) {
+    // A short edge (the common one: two rays on one wall): every cell of its box.
+    for (int r = r0; r <= r1; ++r) {
+      for (int c = c0; c <= c1; ++c) {
+        if (!mask.Allowed(c, r)) bounds.Limit(r, c, sensor, u, v, det);
+      }
+    }
+    bounds.Choose(scale_a, scale_b);
+    return;
+  }
+  // A long edge: the cells it meets, a row at a time, found 64 cells a word.
   const double slope = b.y() != a.y() ? (b.x() - a.x()) / (b.y() - a.y()) : 0.0;
   for (int r = r0; r <= r1; ++r) {
     double x0 = std::min(a.x(), b.x()), x1 = std::max(a.x(), b.x());
@@ -177,14 +207,14 @@ void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sen
       x0 = std::max(x0, std::min(xa, xb));
       x1 = std::min(x1, std::max(xa, xb));
     }
-    const int c0 = std::max(near.col_min, int(std::floor(x0 - kReach)));
-    const int c1 = std::min(near.col_max, int(std::floor(x1 + kReach)));
-    if (c0 > c1) continue;
+    const int from = std::max(near.col_min, int(Floor(x0 - kReach)));
+    const int to = std::min(near.col_max, int(Floor(x1 + kReach)));
+    if (from > to) continue;
     const std::uint64_t* line = mask.bits + std::size_t(r) * mask.words;
-    for (int w = c0 >> 6; w <= c1 >> 6; ++w) {
+    for (int w = from >> 6; w <= to >> 6; ++w) {
       std::uint64_t blocked = ~line[w];
-      if (w == c0 >> 6) blocked &= ~std::uint64_t{0} << (c0 & 63);
-      if (w == c1 >> 6) blocked &= ~std::uint64_t{0} >> (63 - (c1 & 63));
+      if (w == from >> 6) blocked &= ~std::uint64_t{0} << (from & 63);
+      if (w == to >> 6) blocked &= ~std::uint64_t{0} >> (63 - (to & 63));
       while (blocked != 0) {
         bounds.Limit(r, w * 64 + __builtin_ctzll(blocked), sensor, u, v, det);
         blocked &= blocked - 1;
@@ -235,6 +265,23 @@ InsidePolygonBuilder::NearSide InsidePolygonBuilder::Near(const Vec2& sensor, co
   return near;
 }
 
+void InsidePolygonBuilder::Compact() {
+  // Rays that end on one cell edge line (or on one border side) end on a straight line, in
+  // order along it: the vertices between the first and the last of such a run change nothing.
+  // Pulled vertices left their line. Rays blocked at once end at the sensor: one is enough.
+  const auto inner = [](const Vec2& a, const Vec2& p, const Vec2& b) {
+    return (a.x() == p.x() && p.x() == b.x()) || (a.y() == p.y() && p.y() == b.y());
+  };
+  const std::size_t m = ring_.size();
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const Vec2& previous = count > 0 ? ring_[count - 1] : ring_[m - 1];
+    if (inner(previous, ring_[k], ring_[(k + 1) % m])) continue;
+    ring_[count++] = ring_[k];
+  }
+  ring_.resize(count);
+}
+
 bool InsidePolygonBuilder::Distinct(std::vector<Vec2>* polygon) {
   std::vector<Vec2>& p = *polygon;
   std::size_t n = 0;
@@ -253,51 +300,96 @@ bool InsidePolygonBuilder::Distinct(std::vector<Vec2>* polygon) {
   return true;
 }
 
-bool InsidePolygonBuilder::Build(const MaskView& mask, const SensorCell& s,
-                                 const std::vector<RayStop>& stops, std::vector<Vec2>* polygon,
-                                 double* error) {
-  polygon->clear();
-  *error = 0.0;
-  const Vec2 sensor(double(s.x) / kFixedOne, double(s.y) / kFixedOne);
+bool InsidePolygonBuilder::RayEnds(const SensorCell& s, const std::vector<RayStop>& stops) {
   const int m = int(labels_.size());
-  ring_.resize(labels_.size());
+  end_.resize(labels_.size());
   bool beyond = false;  // a ray ended outside the sensor's own cell
   for (int k = 0; k < m; ++k) {
     const int label = labels_[std::size_t(k)];
     const CellIndex target = BorderCell(label, height_, width_);
     const RayStop& stop = stops[std::size_t(label)];
     const Vec2 p = RayStopPoint(s, target.col, target.row, stop);
-    ring_[std::size_t(k)] = p;
-    ring_stop_[std::size_t(k)] = stop;
+    end_[std::size_t(k)] = p;
+    end_stop_[std::size_t(k)] = stop;
     beyond = beyond || p.x() < s.cell.col - kReach || p.x() > s.cell.col + 1 + kReach ||
              p.y() < s.cell.row - kReach || p.y() > s.cell.row + 1 + kReach;
   }
-  if (!beyond) return false;
-  // Neighbouring rays can pass a cell outside the mask between them: pull the ring in first,
-  // so that the simplification works on a ring whose fan lies in the mask.
-  arena_.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, m, 64), [&](const tbb::blocked_range<int>& range) {
-      for (int k = range.begin(); k != range.end(); ++k) {
-        const int next = (k + 1) % m;
-        PullBetweenRays(mask, sensor, ring_[std::size_t(k)], ring_[std::size_t(next)],
-                        Near(sensor, ring_stop_[std::size_t(k)], ring_stop_[std::size_t(next)]),
-                        &need_a_[std::size_t(k)], &need_b_[std::size_t(k)]);
-      }
-    });
-  });
+  return beyond;
+}
+
+void InsidePolygonBuilder::BetweenRays(const MaskView& mask, const Vec2& sensor, int k) {
+  const int next = (k + 1) % int(end_.size());
+  const RayStop& a = end_stop_[std::size_t(k)];
+  const RayStop& b = end_stop_[std::size_t(next)];
+  need_a_[std::size_t(k)] = need_b_[std::size_t(k)] = 1.0;
+  corner_[std::size_t(k)] = 0;
+  // Two rays that entered one cell across two of its edges: the edge between their ends cuts
+  // that cell's corner, and that cell alone (the edge lies in its square). The ring goes round
+  // the corner instead: along the two edges, which the rays reached from the cells before.
+  if (a.cell == b.cell && ((a.kind == kRayCrossX && b.kind == kRayCrossY) ||
+                           (a.kind == kRayCrossY && b.kind == kRayCrossX))) {
+    const RayStop& x = a.kind == kRayCrossX ? a : b;
+    const RayStop& y = a.kind == kRayCrossY ? a : b;
+    corner_at_[std::size_t(k)] = Vec2(x.line, y.line);
+    corner_[std::size_t(k)] = 1;
+    return;
+  }
+  // Two rays that reached neighbouring border cells: the edge lies in those two cells.
+  if (a.kind == kRayEnd && b.kind == kRayEnd) return;
+  // Two rays that stopped on one cell edge line: the edge runs along it, and the cells beyond
+  // the line touch the triangle along the edge only; on the sensor's side the rays came
+  // through the cells next to the line. When those are all in the mask, nothing reaches in.
+  if (a.kind == b.kind && a.line == b.line && (a.kind == kRayCrossX || a.kind == kRayCrossY)) {
+    // Into one cell, or into two beside each other along the line: the one ray a came through.
+    if (a.cell == b.cell || (a.kind == kRayCrossX && std::abs(a.cell - b.cell) == width_) ||
+        (a.kind == kRayCrossY && std::abs(a.cell - b.cell) == 1 && a.cell / width_ == b.cell / width_)) {
+      return;
+    }
+    const bool x = a.kind == kRayCrossX;
+    const Vec2& p = end_[std::size_t(k)];
+    const Vec2& q = end_[std::size_t(next)];
+    const int from = Floor(x ? p.y() : p.x()), to = Floor(x ? q.y() : q.x());
+    if (from == to) return;  // one cell next to the line: the one ray a came through
+    const int across = (x ? sensor.x() : sensor.y()) < a.line ? a.line - 1 : a.line;
+    bool clear = true;
+    for (int i = std::min(from, to); clear && i <= std::max(from, to); ++i) {
+      clear = x ? mask.Allowed(across, i) : mask.Allowed(i, across);
+    }
+    if (clear) return;
+  }
+  PullBetweenRays(mask, sensor, end_[std::size_t(k)], end_[std::size_t(next)],
+                  Near(sensor, a, b), &need_a_[std::size_t(k)], &need_b_[std::size_t(k)]);
+}
+
+void InsidePolygonBuilder::AssembleRing(const Vec2& sensor) {
+  const int m = int(end_.size());
+  ring_.clear();
   for (int k = 0; k < m; ++k) {
     const double scale = std::min(need_a_[std::size_t(k)], need_b_[std::size_t((k + m - 1) % m)]);
-    ring_[std::size_t(k)] = sensor + scale * (ring_[std::size_t(k)] - sensor);
+    ring_.push_back(sensor + scale * (end_[std::size_t(k)] - sensor));
+    if (corner_[std::size_t(k)]) ring_.push_back(corner_at_[std::size_t(k)]);
   }
-  // Rays blocked at once (the sensor on a cell edge or corner) end at the sensor: one vertex
-  // there is enough.
-  std::size_t count = 0;
-  for (std::size_t k = 0; k < ring_.size(); ++k) {
-    if (count > 0 && (ring_[k] - ring_[count - 1]).squaredNorm() <= 1e-18) continue;
-    ring_[count++] = ring_[k];
-  }
-  while (count > 1 && (ring_[count - 1] - ring_[0]).squaredNorm() <= 1e-18) --count;
-  ring_.resize(count);
+  Compact();
+}
+
+bool InsidePolygonBuilder::Build(const MaskView& mask, const SensorCell& s,
+                                 const std::vector<RayStop>& stops, std::vector<Vec2>* polygon,
+                                 double* error) {
+  polygon->clear();
+  *error = 0.0;
+  if (!RayEnds(s, stops)) return false;
+  const Vec2 sensor(double(s.x) / kFixedOne, double(s.y) / kFixedOne);
+  // Neighbouring rays can pass a cell outside the mask between them: the ring goes round it or
+  // is pulled in first, so that the simplification works on a ring whose fan lies in the mask.
+  arena_.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, int(end_.size()), 64),
+                      [&](const tbb::blocked_range<int>& range) {
+                        for (int k = range.begin(); k != range.end(); ++k) {
+                          BetweenRays(mask, sensor, k);
+                        }
+                      });
+  });
+  AssembleRing(sensor);
   *error = simplifier_.Simplify(ring_, sensor, &kept_);
   const int n = int(kept_.size());
   scale_.assign(std::size_t(n), 1.0);

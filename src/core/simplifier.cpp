@@ -42,16 +42,25 @@ PolygonSimplifier::Segment PolygonSimplifier::Measure(const std::vector<Vec2>& r
   Segment s;
   s.from = from;
   s.length = length;
-  const Vec2& a = ring[from];
-  const Vec2& b = ring[(from + length) % n];
-  for (int k = 1; k < length; ++k) {
-    const int i = (from + k) % n;
-    const double d = DistanceToSegment(ring[i], a, b);
-    if (d > s.deviation || s.worst < 0) {
-      s.deviation = d;
+  // DistanceToSegment of every vertex strictly inside, squared (the farthest is the same),
+  // with the segment's direction and length worked out once.
+  const Vec2 a = ring[std::size_t(from)];
+  const Vec2 ab = ring[std::size_t((from + length) % n)] - a;
+  const double len2 = ab.squaredNorm(), inverse = len2 > 0.0 ? 1.0 / len2 : 0.0;
+  double farthest = -1.0;
+  const auto visit = [&](int i) {
+    const Vec2 ap = ring[std::size_t(i)] - a;
+    const double t = std::clamp(ap.dot(ab) * inverse, 0.0, 1.0);
+    const double d2 = (ap - t * ab).squaredNorm();
+    if (d2 > farthest) {
+      farthest = d2;
       s.worst = i;
     }
-  }
+  };
+  const int end = from + length;  // exclusive, may run past the ring's end
+  for (int i = from + 1; i < std::min(end, n); ++i) visit(i);
+  for (int i = 0; i < end - n; ++i) visit(i);
+  if (s.worst >= 0) s.deviation = std::sqrt(farthest);
   return s;
 }
 

@@ -124,6 +124,7 @@ nlohmann::json BenchReportJson(const BenchReport& r, const std::string& out_dir)
   if (!r.pipelines.empty()) out["pipeline"] = Pipelines(r);
   out["sensor_model"] = SensorModels(r);
   out["alignment"] = Alignment(r.alignment);
+  out["polygon_shape"] = {{"paper", r.paper_shape.ToJson()}, {"inside", r.inside_shape.ToJson()}};
   if (r.scaling) out["scaling"] = Scaling(*r.scaling, out_dir);
   out["comparisons"] = Comparisons(r);
   out["load_average"] = {Number(r.load_before), Number(r.load_after)};

@@ -74,6 +74,24 @@ void CompareSensorModels(const Config& config, const BenchSource& source,
   }
 }
 
+// The paper's polygon against the conservative one, same scans, TBB (issue 21's aims: the
+// conservative polygon stage at most 3 times the paper's, the pipeline at most 1.3 times).
+void ComparePolygonShapes(const Config& config, const BenchSource& source,
+                          const BenchOptions& options, BenchReport* report) {
+  Progress(options, "paper vs conservative polygon");
+  Config paper = config, inside = config;
+  paper.backend.kind = inside.backend.kind = BackendKind::kTbb;
+  paper.polygon.shape = PolygonShape::kPaper;
+  paper.polygon.margin_cells = 0;
+  inside.polygon.shape = PolygonShape::kInside;
+  if (config.polygon.shape != PolygonShape::kInside) {
+    inside.polygon.margin_cells = 1;
+    inside.polygon.margin_cone_deg = 60.0;
+  }
+  report->paper_shape = TimePipeline(paper, source.scans, options.warmup);
+  report->inside_shape = TimePipeline(inside, source.scans, options.warmup);
+}
+
 // The exponent of time against x per series, over all points and over x >= from.
 std::map<std::string, ScaleExponent> Exponents(const std::vector<ScaleSeries>& series,
                                                double from) {
@@ -254,6 +272,7 @@ BenchReport RunBenchSuite(const Config& config, const BenchSource& source,
 
   report.pipelines = TimeBackends(config, source.scans, options);
   CompareSensorModels(config, source, options, &report);
+  ComparePolygonShapes(config, source, options, &report);
   // Vehicle on a circle vs a rotated, sub-pixel shifted map, against the reference map.
   Progress(options, "circle vs rotate alignment");
   report.alignment = CompareAlignment(config, source.scans, options.warmup);

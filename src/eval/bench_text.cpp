@@ -100,6 +100,15 @@ void PrintAlignment(std::FILE* out, const AlignmentComparison& a) {
         a.rotate_error.mean_abs_probability);
 }
 
+void PrintPolygonShapes(std::FILE* out, const BenchReport& r) {
+  std::fprintf(out, "\nPolygon (median us per scan, TBB)              paper       inside   ratio\n");
+  for (const char* stage : {"mask", "insight", "polygon", "total"}) {
+    const double a = r.paper_shape.times.Quantile(stage, 0.5);
+    const double b = r.inside_shape.times.Quantile(stage, 0.5);
+    std::fprintf(out, "  %-36s %10.1f   %10.1f   %5.2f\n", stage, a, b, a > 0 ? b / a : NAN);
+  }
+}
+
 void PrintMapScaling(std::FILE* out, const BenchReport& report, const ScalingResults& s) {
   std::fprintf(out, "\nMap size, median full pipeline microseconds per scan\n  %-10s", "cells");
   for (const BackendPipeline* pipeline : report.Ran()) {
@@ -196,6 +205,7 @@ void PrintBenchReport(std::FILE* out, const BenchReport& report) {
   PrintPipelines(out, report);
   PrintSensorModels(out, report);
   PrintAlignment(out, report.alignment);
+  PrintPolygonShapes(out, report);
   if (report.scaling) {
     PrintMapScaling(out, report, *report.scaling);
     PrintPointsScaling(out, *report.scaling);

@@ -45,8 +45,9 @@ class InsidePolygonBuilder {
   bool Build(const MaskView& mask, const SensorCell& s, const std::vector<RayStop>& stops,
              std::vector<Vec2>* polygon, double* error);
 
-  // The ring of the last Build(), one vertex per distinct border cell, after the pull between
-  // neighbouring rays: the union of its fan triangles around the sensor lies in the mask.
+  // The ring of the last Build(): the rays' ends, pulled in or gone round where a cell outside
+  // the mask pokes between two of them, straight runs compacted: the union of its fan
+  // triangles around the sensor lies in the mask.
   const std::vector<Vec2>& ring() const { return ring_; }
 
  private:
@@ -64,15 +65,27 @@ class InsidePolygonBuilder {
   // The same for a simplified edge from ring vertex i to ring vertex j: the triangle must stay
   // inside the ring's fan triangles i .. j.
   void PullInsideRing(const Vec2& sensor, int i, int j, double* scale_a, double* scale_b) const;
+  // The rays' end points (end_), one per distinct border cell; false when none left the
+  // sensor's own cell.
+  bool RayEnds(const SensorCell& s, const std::vector<RayStop>& stops);
+  // Between ray k and the next: a corner to go round, or how far to pull their ends.
+  void BetweenRays(const MaskView& mask, const Vec2& sensor, int k);
+  // The ring from the ends, pulled, with the corners between them; compacted.
+  void AssembleRing(const Vec2& sensor);
+  // Drops the ring vertices that lie on a straight run between their neighbours.
+  void Compact();
   // Drops repeated vertices; false when fewer than three distinct ones remain.
   static bool Distinct(std::vector<Vec2>* polygon);
 
   int width_, height_;
   PolygonSimplifier simplifier_;
   std::vector<int> labels_;  // one label per distinct border cell, in label order
+  std::vector<Vec2> end_;            // where each ray ended
+  std::vector<RayStop> end_stop_;    // and how
+  std::vector<double> need_a_, need_b_;  // per pair of rays: the scales of the first / second end
+  std::vector<std::uint8_t> corner_;     // per pair of rays: a corner to go round
+  std::vector<Vec2> corner_at_;          // and where
   std::vector<Vec2> ring_;
-  std::vector<RayStop> ring_stop_;  // how each ring vertex's ray stopped
-  std::vector<double> need_a_, need_b_;  // per ring edge: the scales of its first / last vertex
   std::vector<int> kept_;
   std::vector<double> scale_;
   tbb::task_arena arena_;

@@ -162,6 +162,9 @@ struct BenchReport {
   std::optional<TruthQuality> enhanced_quality, conventional_quality;  // on a simulated drive
 
   AlignmentComparison alignment;          // circle vs rotate, TBB
+  // The paper's polygon against the conservative one (the config's margin, or the road setup's
+  // one-cell margin in a 60 deg cone when the config has none), same scans, TBB.
+  PipelineRun paper_shape, inside_shape;
   std::optional<ScalingResults> scaling;  // with --scaling
   BenchComparisons comparisons;
 };

@@ -1,0 +1,85 @@
+// The polygon stage and the pipeline of the road setup (configs/scala.yaml: the conservative
+// polygon with its margin) against the paper's polygon, on simulated drives (urban, highway,
+// parking), per map size, TBB backend. One scan per iteration, replayed in order from the drive's
+// start (the first scans of a pass, while the map fills, untimed). The reported time is the
+// stage's own (Result::times, UseManualTime): BM_DrivePolygon times the polygon stage alone (the
+// host's work after the border rays), BM_DrivePipeline the whole Estimator::Process(); counters:
+// the mean mask (stage 3b) and border-ray (stage 4) times.
+#include <map>
+
+#include "bench_util.hpp"
+#include "sim/simulator.hpp"
+
+namespace freespace::bench {
+namespace {
+
+constexpr const char* kScenarios[] = {"urban", "highway", "parking"};
+constexpr int kScans = 400;   // of each drive
+constexpr int kWarmUp = 25;   // untimed scans at the start of each pass
+
+// The first kScans scans of a scenario's drive (seed 1), simulated once.
+const std::vector<Scan>& DriveScans(int scenario, SensorConfig* sensor) {
+  static std::map<int, std::pair<std::vector<Scan>, SensorConfig>> drives;
+  auto& drive = drives[scenario];
+  if (drive.first.empty()) {
+    sim::SimulationOptions options;
+    options.scenario = kScenarios[scenario];
+    options.seed = 1;
+    sim::Simulation simulation(options);
+    Scan scan;
+    while (int(drive.first.size()) < kScans && simulation.Next(&scan)) drive.first.push_back(scan);
+    drive.second = simulation.truth().scanner.EngineSensor();
+  }
+  *sensor = drive.second;
+  return drive.first;
+}
+
+// Args: shape (0 paper, 1 the road setup's conservative polygon), scenario, map side.
+void RunDrive(benchmark::State& state, bool polygon_only) {
+  SensorConfig sensor;
+  const std::vector<Scan>& scans = DriveScans(int(state.range(1)), &sensor);
+  Config config = LoadProjectConfig("scala.yaml");
+  config.sensor = sensor;
+  config.map.width_cells = config.map.height_cells = int(state.range(2));
+  if (state.range(0) == 0) {
+    config.polygon.shape = PolygonShape::kPaper;
+    config.polygon.margin_cells = 0;
+  }
+  Estimator estimator(config);
+  state.SetLabel(std::string(kScenarios[state.range(1)]) + " " +
+                 ToString(config.polygon.shape) + " " + std::to_string(state.range(2)) + "x" +
+                 std::to_string(state.range(2)));
+  std::size_t next = 0;
+  double mask = 0.0, insight = 0.0;
+  for (auto _ : state) {
+    if (next % scans.size() == 0) {
+      estimator.Reset();
+      for (next = 0; next < kWarmUp; ++next) estimator.Process(scans[next]);
+    }
+    const Result& r = estimator.Process(scans[next++ % scans.size()]);
+    benchmark::DoNotOptimize(r.polygon.data());
+    state.SetIterationTime((polygon_only ? r.times.polygon_us : r.times.total_us) * 1e-6);
+    mask += r.times.mask_us;
+    insight += r.times.insight_us;
+  }
+  state.counters["mask"] = benchmark::Counter(mask, benchmark::Counter::kAvgIterations);
+  state.counters["insight"] = benchmark::Counter(insight, benchmark::Counter::kAvgIterations);
+}
+
+void BM_DrivePolygon(benchmark::State& state) { RunDrive(state, true); }
+void BM_DrivePipeline(benchmark::State& state) { RunDrive(state, false); }
+
+void Drives(benchmark::internal::Benchmark* b) {
+  for (const int cells : {300, 1500}) {
+    for (const int scenario : {0, 1, 2}) {
+      for (const int shape : {0, 1}) b->Args({shape, scenario, cells});
+    }
+  }
+  b->ArgNames({"shape", "scenario", "cells"})->UseManualTime()->Unit(benchmark::kMicrosecond);
+}
+
+BENCHMARK(BM_DrivePolygon)->Apply(Drives);
+BENCHMARK(BM_DrivePipeline)->Apply(Drives);
+
+}  // namespace
+}  // namespace freespace::bench
