@@ -7,7 +7,6 @@
 // outside the timed region.
 #include "bench_util.hpp"
 #include "core/inside_polygon.hpp"
-#include "core/margin.hpp"
 #include "core/simplifier.hpp"
 
 namespace freespace::bench {

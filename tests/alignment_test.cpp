@@ -7,7 +7,6 @@
 
 #include "baselines/map_warper.hpp"
 #include "core/inside_polygon.hpp"
-#include "core/margin.hpp"
 #include "core/simplifier.hpp"
 #include "eval/reference_map.hpp"
 #include "host/host_backend.hpp"

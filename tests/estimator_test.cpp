@@ -6,7 +6,6 @@
 #include <random>
 
 #include "core/inside_polygon.hpp"
-#include "core/margin.hpp"
 #include "core/simplifier.hpp"
 #include "geometry/geometry.hpp"
 #include "host/host_backend.hpp"
@@ -368,6 +367,75 @@ TEST_P(EstimatorTest, IntelLabInsidePolygonMarginKeepsOffOccupiedCells) {
   EXPECT_GT(checked, 50);
   EXPECT_LT(boxed_in, 10);
   EXPECT_GT(containing + boxed_in, 900);
+}
+
+
+// A wall 3.6 m ahead, and with `car` a car's rear face 1.4 m ahead across -10 .. 10 deg.
+Scan StreetScan(double t, bool car) {
+  std::vector<double> angles, ranges;
+  for (int a = -45; a <= 45; ++a) {
+    angles.push_back(a);
+    const double c = std::cos(a * M_PI / 180.0);
+    ranges.push_back(car && std::abs(a) <= 10 ? 1.4 / c : std::min(3.6 / c, 19.0));
+  }
+  return MakeScan(t, {0, 0, 0}, angles, ranges);
+}
+
+TEST_P(EstimatorTest, ACarThatDrivesIntoFreeSpaceIsOutOfThePolygonFromItsFirstScan) {
+  // Ten scans of an empty street make the cells 1.4 .. 2.4 m ahead free down to the clamp; then
+  // a car is there. Its echoes veto their cells this scan, so the conservative polygon stops in
+  // front of its face and covers nothing of it; without the veto the map's old free evidence
+  // outweighs the one occupied update, and the polygon runs through the car.
+  for (const bool veto : {true, false}) {
+    Config c = WallConfig();
+    c.polygon.shape = PolygonShape::kInside;
+    c.classify.vehicle_width_m = 0.2;
+    c.classify.veto_current_echoes = veto;
+    FREESPACE_ESTIMATOR_OR_SKIP(estimator, c);
+    for (int k = 0; k < 10; ++k) estimator->Process(StreetScan(0.1 * k, false));
+    const Result& r = estimator->Process(StreetScan(1.0, true));
+    ASSERT_EQ(r.polygon_status, PolygonStatus::kOk);
+    // The car's body, 1.4 .. 2.4 m ahead and 0.6 m wide, in world metres (the pose is zero).
+    const geometry::Polygon car = geometry::Box(1.4, -0.3, 2.4, 0.3);
+    const double on_car = std::abs(geometry::SignedArea(geometry::ClipToConvex(r.polygon, car)));
+    if (veto) {
+      EXPECT_LT(on_car, 1e-9);
+      // The cells of its echoes hold none of the polygon either.
+      const MapView map = estimator->map();
+      const geometry::Polygon cells(r.polygon_cells.begin(), r.polygon_cells.end());
+      for (int a = -10; a <= 10; ++a) {
+        const double x = 1.4, y = 1.4 * std::tan(a * M_PI / 180.0);
+        const int col = int(std::floor(r.vehicle_cells.x() + x / 0.2));
+        const int row = int(std::floor(r.vehicle_cells.y() + y / 0.2));
+        EXPECT_LT(geometry::AreaInBox(cells, col, row, col + 1, row + 1), 1e-9) << "beam " << a;
+        EXPECT_FALSE(map.free[std::size_t(row) * map.width + col]) << "beam " << a;
+      }
+    } else {
+      EXPECT_GT(on_car, 0.1);  // the test can fail: the map alone lets the polygon in
+    }
+  }
+}
+
+TEST_P(EstimatorTest, NothingFreeYetGivesAnEmptyPolygonWithItsStatus) {
+  // A first scan without an echo: the map is unknown, nothing around the sensor is free, and
+  // neither polygon is a ring of repeated points. The next scans make free space, and a polygon.
+  for (const PolygonShape shape : {PolygonShape::kPaper, PolygonShape::kInside}) {
+    Config c = WallConfig();
+    c.polygon.shape = shape;
+    FREESPACE_ESTIMATOR_OR_SKIP(estimator, c);
+    const Result& first = estimator->Process(WallScan(0.0, -45, 45));
+    EXPECT_EQ(first.status, ScanStatus::kNoSensorUpdate);
+    EXPECT_EQ(first.polygon_status, PolygonStatus::kNoFreeSpace) << ToString(shape);
+    EXPECT_TRUE(first.polygon.empty());
+    EXPECT_TRUE(first.polygon_cells.empty());
+    EXPECT_NE(first.message.find("no sensor update"), std::string::npos);
+    const Result& next = estimator->Process(WallScan(0.1));
+    EXPECT_EQ(next.polygon_status, PolygonStatus::kOk) << ToString(shape);
+    ASSERT_GE(next.polygon.size(), 3u);
+    for (std::size_t k = 0; k < next.polygon.size(); ++k) {
+      EXPECT_GT((next.polygon[k] - next.polygon[(k + 1) % next.polygon.size()]).norm(), 0.0);
+    }
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, EstimatorTest, ::testing::ValuesIn(test::AllBackends()),

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "sim/simulator.hpp"
 #include "test_util.hpp"
 
 namespace freespace {
@@ -198,6 +199,29 @@ void RunKitti(const std::string& path, int cells, int scans) {
   }
   // The map moved under the vehicle: the shift ran.
   EXPECT_GT(last_origin, first_origin + 20);
+}
+
+// A simulated highway drive with traffic, the road setup (configs/scala.yaml: the conservative
+// polygon with its margin, the veto of this scan's echoes), both map sizes: every stage 3b mask,
+// every exact ray and every veto the same on both backends.
+TEST(Parity, SimulatedHighwayRoadSetup) {
+  for (const int cells : {300, 1500}) {
+    sim::SimulationOptions options;
+    options.scenario = "highway";
+    options.seed = 3;
+    sim::Simulation simulation(options);
+    Config config = test::LoadProjectConfig("scala.yaml");
+    config.sensor = simulation.truth().scanner.EngineSensor();
+    config.map.width_cells = config.map.height_cells = cells;
+    std::unique_ptr<Estimator> tbb, opencl;
+    std::string skip;
+    MakePair(config, &tbb, &opencl, &skip);
+    if (!opencl) GTEST_SKIP() << skip;
+    Scan scan;
+    for (int k = 0; k < (cells == 300 ? 250 : 60) && simulation.Next(&scan); ++k) {
+      ASSERT_TRUE(ProcessBoth(*tbb, *opencl, scan, "highway " + std::to_string(cells)));
+    }
+  }
 }
 
 TEST(Parity, KittiFramesOnBothMapSizes) {

@@ -250,10 +250,11 @@ class DemoRun {
     std::cout << "freespace demo: simulated " << echoes_.ToString() << "\n";
     std::snprintf(line, sizeof line,
                   "freespace demo: median ms per scan: simulate %.2f | estimator %.3f (preprocess "
-                  "%.3f, align %.3f, rasterize %.3f, fuse %.3f, classify %.3f, insight %.3f, "
-                  "polygon %.3f) | score %.2f | render + video %.2f per frame\n",
+                  "%.3f, align %.3f, rasterize %.3f, fuse %.3f, classify %.3f, mask %.3f, "
+                  "insight %.3f, polygon %.3f) | score %.2f | render + video %.2f per frame\n",
                   MedianMs(simulate_us_), ms("total"), ms("preprocess"), ms("align"),
-                  ms("rasterize"), ms("fuse"), ms("classify"), ms("insight"), ms("polygon"),
+                  ms("rasterize"), ms("fuse"), ms("classify"), ms("mask"), ms("insight"),
+                  ms("polygon"),
                   MedianMs(score_us_), MedianMs(render_us_));
     std::cout << line;
   }
