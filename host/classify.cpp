@@ -97,9 +97,10 @@ void RowMorphology(const std::uint64_t* x, int words, int h, bool erode, std::ui
   }
 }
 
-// Pass 1: strong (l <= t_low), weak (l <= t_high) and occupied (l > 0) bits of a row.
-void LevelRow(const LogOdds* m, std::uint64_t* strong, std::uint64_t* weak, std::uint64_t* occupied,
-              int width, LogOdds t_low, LogOdds t_high) {
+// Pass 1: strong (l <= t_low), weak (l <= t_high) and unconfirmed (l >= 0: occupied, or never
+// seen free more often than occupied) bits of a row.
+void LevelRow(const LogOdds* m, std::uint64_t* strong, std::uint64_t* weak,
+              std::uint64_t* unconfirmed, int width, LogOdds t_low, LogOdds t_high) {
   const int words = (width + 63) / 64;
   for (int w = 0; w < words; ++w) {
     const int c0 = w * 64;
@@ -109,7 +110,7 @@ void LevelRow(const LogOdds* m, std::uint64_t* strong, std::uint64_t* weak, std:
     // 16 cells at a time: l <= t  <=>  t + 1 > l (thresholds are below 32767).
     const __m128i low = _mm_set1_epi16(std::int16_t(t_low + 1));
     const __m128i high = _mm_set1_epi16(std::int16_t(t_high + 1));
-    const __m128i zero = _mm_setzero_si128();
+    const __m128i minus_one = _mm_set1_epi16(-1);
     for (; c + 16 <= std::min(c0 + 64, width); c += 16) {
       const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(m + c));
       const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(m + c + 8));
@@ -117,8 +118,8 @@ void LevelRow(const LogOdds* m, std::uint64_t* strong, std::uint64_t* weak, std:
           _mm_movemask_epi8(_mm_packs_epi16(_mm_cmpgt_epi16(low, a), _mm_cmpgt_epi16(low, b)));
       const int mk =
           _mm_movemask_epi8(_mm_packs_epi16(_mm_cmpgt_epi16(high, a), _mm_cmpgt_epi16(high, b)));
-      const int mo =
-          _mm_movemask_epi8(_mm_packs_epi16(_mm_cmpgt_epi16(a, zero), _mm_cmpgt_epi16(b, zero)));
+      const int mo = _mm_movemask_epi8(
+          _mm_packs_epi16(_mm_cmpgt_epi16(a, minus_one), _mm_cmpgt_epi16(b, minus_one)));
       s |= std::uint64_t(std::uint16_t(ms)) << (c - c0);
       k |= std::uint64_t(std::uint16_t(mk)) << (c - c0);
       o |= std::uint64_t(std::uint16_t(mo)) << (c - c0);
@@ -127,11 +128,11 @@ void LevelRow(const LogOdds* m, std::uint64_t* strong, std::uint64_t* weak, std:
     for (; c < std::min(c0 + 64, width); ++c) {
       s |= std::uint64_t(m[c] <= t_low) << (c - c0);
       k |= std::uint64_t(m[c] <= t_high) << (c - c0);
-      o |= std::uint64_t(m[c] > 0) << (c - c0);
+      o |= std::uint64_t(m[c] >= 0) << (c - c0);
     }
     strong[w] = s;
     weak[w] = k;
-    occupied[w] = o;
+    unconfirmed[w] = o;
   }
 }
 
@@ -196,7 +197,7 @@ void HostBackend::Classify() {
   const LogOdds* map = map_.data();
   std::uint64_t* strong = bits_strong_.data();
   std::uint64_t* weak = bits_weak_.data();
-  std::uint64_t* occupied = bits_occupied_.data();
+  std::uint64_t* unconfirmed = bits_unconfirmed_.data();
   std::uint64_t* a = bits_a_.data();
   std::uint64_t* b = bits_b_.data();
   std::uint64_t* f = free_.data();
@@ -220,7 +221,8 @@ void HostBackend::Classify() {
   };
   const RowSpan bits = set.Hull(bits_rows_);
   rows(bits, [=](int r) {
-    LevelRow(map + r * w, strong + r * nw, weak + r * nw, occupied + r * nw, width, t_low, t_high);
+    LevelRow(map + r * w, strong + r * nw, weak + r * nw, unconfirmed + r * nw, width, t_low,
+             t_high);
   });
   rows(bits, [=](int r) {
     HysteresisErodeRow(r > 0 ? strong + (r - 1) * nw : nullptr, strong + r * nw,
@@ -239,7 +241,8 @@ void HostBackend::Classify() {
 void HostBackend::SetEchoes(const std::int32_t* cells, int count) {
   const int width = params_.width, nw = words();
   // Each old echo's word to 0 clears every old bit (all of them are echoes).
-  for (const std::int32_t c : echo_cells_) echo_[std::size_t(c / width) * nw + (c % width) / 64] = 0;
+  for (const std::int32_t c : echo_cells_)
+    echo_[std::size_t(c / width) * nw + (c % width) / 64] = 0;
   echo_cells_.assign(cells, cells + count);
   for (const std::int32_t c : echo_cells_) {
     echo_[std::size_t(c / width) * nw + (c % width) / 64] |= std::uint64_t{1} << ((c % width) % 64);

@@ -21,7 +21,7 @@ HostBackend::HostBackend(const KernelParams& params, int threads)
       bits_weak_(bits_strong_.size(), 0),
       bits_a_(bits_strong_.size(), 0),
       bits_b_(bits_strong_.size(), 0),
-      bits_occupied_(bits_strong_.size(), 0),
+      bits_unconfirmed_(bits_strong_.size(), 0),
       free_(bits_strong_.size(), 0),
       echo_(bits_strong_.size(), 0),
       mask_(bits_strong_.size(), 0),
@@ -47,15 +47,16 @@ void HostBackend::ReadLogOdds(LogOdds* dst) { std::memcpy(dst, map_.data(), cell
 void HostBackend::WriteLogOdds(const LogOdds* src) {
   std::memcpy(map_.data(), src, cells() * 2);
   known_ = {0, params_.height};
-  // The occupied bits of stage 3b, which Classify() keeps for the maps it classifies.
+  // The margin's sources of stage 3b (log-odds >= 0), which Classify() keeps for the maps it
+  // classifies.
   const int width = params_.width, nw = words();
   for (int r = 0; r < params_.height; ++r) {
     for (int w = 0; w < nw; ++w) {
       std::uint64_t bits = 0;
       for (int c = w * 64; c < std::min(width, w * 64 + 64); ++c) {
-        bits |= std::uint64_t(src[std::size_t(r) * width + c] > 0) << (c - w * 64);
+        bits |= std::uint64_t(src[std::size_t(r) * width + c] >= 0) << (c - w * 64);
       }
-      bits_occupied_[std::size_t(r) * nw + w] = bits;
+      bits_unconfirmed_[std::size_t(r) * nw + w] = bits;
     }
   }
   bits_rows_ = {0, params_.height};
@@ -87,8 +88,8 @@ void HostBackend::ReadFree(std::uint8_t* dst) {
 }
 void HostBackend::ReadMaskBits(int row_begin, int row_end, std::uint64_t* dst) {
   const std::size_t nw = std::size_t(words());
-  std::copy(mask_.begin() + std::ptrdiff_t(row_begin * nw), mask_.begin() + std::ptrdiff_t(row_end * nw),
-            dst + row_begin * nw);
+  std::copy(mask_.begin() + std::ptrdiff_t(row_begin * nw),
+            mask_.begin() + std::ptrdiff_t(row_end * nw), dst + row_begin * nw);
 }
 void HostBackend::ReadRayDelta(std::int32_t* dst) {
   std::memcpy(dst, delta_.data(), cells() * sizeof(std::int32_t));

@@ -2,12 +2,12 @@
 // inside). Mirrors kernels/mask.cl.
 //
 // The free mask, plus the cells around the sensor the opening took but the scans saw free more
-// often than occupied, less the safety margin: a cell with an occupied neighbour (the map's
-// log-odds above 0, or an echo of this scan) within margin_cells, where the line of sight from
-// the sensor through the cell runs on toward that neighbour (InMarginCone). The echoes of this
-// scan count as occupied, so that a vehicle now in a place the map still holds free keeps its
-// margin too. A row at a time, as bitsets; only the cells next to an occupied one are tested
-// for the cone.
+// often than occupied, less the safety margin: a cell with an unconfirmed neighbour (the map's
+// log-odds >= 0: occupied, or never seen free; or an echo of this scan) within margin_cells,
+// where the line of sight from the sensor through the cell runs on toward that neighbour
+// (InMarginCone). The echoes of this scan count, so that a vehicle now in a place the map still
+// holds free keeps its margin too. A row at a time, as bitsets; only the cells next to an
+// unconfirmed one are tested for the cone.
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -33,6 +33,12 @@ void HostBackend::Mask(const SensorCell& sensor) {
   const RowSpan span = free_rows_.Hull(stand);
   const RowSpan write = span.Hull(mask_rows_);
   const LogOdds* map = map_.data();
+  const std::uint64_t valid_last = (width % 64) ? (~0ull >> (64 - width % 64)) : ~0ull;
+  // The margin's sources of row rr: outside the rows Classify() kept, every cell is unknown.
+  const auto sources = [&](int rr, int w) -> std::uint64_t {
+    if (rr < bits_rows_.begin || rr >= bits_rows_.end) return w + 1 == nw ? valid_last : ~0ull;
+    return bits_unconfirmed_[std::size_t(rr) * nw + w] | echo_[std::size_t(rr) * nw + w];
+  };
   auto mask_row = [&](int r) {
     std::uint64_t* out = mask_.data() + std::size_t(r) * nw;
     if (r < span.begin || r >= span.end) {
@@ -52,12 +58,12 @@ void HostBackend::Mask(const SensorCell& sensor) {
     if (k > 0) {
       std::uint64_t kill[128] = {};
       std::uint64_t near[128], column[128] = {}, any[128] = {};
-      // The cells with an occupied cell within k at all, so that the words without are skipped.
+      // The cells with a source within k at all, so that the words without are skipped.
       for (int dy = -k; dy <= k; ++dy) {
         const int rr = r + dy;
         if (rr < 0 || rr >= height) continue;
         for (int w = 0; w < nw; ++w) {
-          column[w] |= bits_occupied_[std::size_t(rr) * nw + w] | echo_[std::size_t(rr) * nw + w];
+          column[w] |= sources(rr, w);
         }
       }
       bool none = true;
@@ -68,9 +74,7 @@ void HostBackend::Mask(const SensorCell& sensor) {
       for (int dy = -k; dy <= k && !none; ++dy) {
         const int rr = r + dy;
         if (rr < 0 || rr >= height) continue;
-        const std::uint64_t* occ = bits_occupied_.data() + std::size_t(rr) * nw;
-        const std::uint64_t* ech = echo_.data() + std::size_t(rr) * nw;
-        for (int w = 0; w < nw; ++w) near[w] = occ[w] | ech[w];
+        for (int w = 0; w < nw; ++w) near[w] = sources(rr, w);
         for (int dx = -k; dx <= k; ++dx) {
           if (dx == 0 && dy == 0) continue;
           for (int w = 0; w < nw; ++w) {
@@ -88,7 +92,8 @@ void HostBackend::Mask(const SensorCell& sensor) {
       }
       for (int w = 0; w < nw; ++w) out[w] &= ~kill[w];
     }
-    if (r == sensor.cell.row) out[sensor.cell.col >> 6] |= std::uint64_t{1} << (sensor.cell.col & 63);
+    if (r == sensor.cell.row)
+      out[sensor.cell.col >> 6] |= std::uint64_t{1} << (sensor.cell.col & 63);
   };
   if (!write.empty()) {
     arena_.execute([&] {

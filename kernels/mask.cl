@@ -1,14 +1,15 @@
 // Kernel stage 3b: the polygon mask of the conservative polygon (polygon.shape inside), and the
 // per-scan veto of stage 3. Mirrors host/mask.cpp and host/classify.cpp's veto; host side:
-// src/opencl/mask.cpp (argument namespaces mask_veto_arg, mask_occupied_arg, mask_rows_arg).
+// src/opencl/mask.cpp (argument namespaces mask_veto_arg, mask_unconfirmed_arg, mask_rows_arg).
 //
 // mask_veto: one work-item per row of the free mask: the cells holding an echo of this scan
 // (a bitset the host uploads) are not free, whatever the map holds.
-// mask_occupied: one work-item per row: the occupied bits (log-odds above 0) of the map.
+// mask_unconfirmed: one work-item per row: the margin's sources of the map, its cells with
+// log-odds >= 0 (occupied, or never seen free more often than occupied).
 // mask_rows: one work-item per row of the polygon mask: the free mask, plus the cells within
-// OPENING_RADIUS of the sensor's cell with log-odds below 0 and no echo, less every cell with an
-// occupied neighbour (the map's or an echo) within MARGIN_CELLS in the margin's cone, plus the
-// sensor's own cell. Bitsets of BIT_WORDS ulong words a row (common.cl).
+// OPENING_RADIUS of the sensor's cell with log-odds below 0 and no echo, less every cell with a
+// source (unconfirmed, or an echo) within MARGIN_CELLS in the margin's cone, plus the sensor's
+// own cell. Bitsets of BIT_WORDS ulong words a row (common.cl).
 //
 // Build options: those of common.cl, OPENING_RADIUS, MARGIN_CELLS, CONE_COS, CONE_SIN (the
 // cone's half-angle times 2^20) and MARGIN_ALL (1: the margin all around).
@@ -20,16 +21,16 @@ __kernel void mask_veto(__global ulong* free, __global const ulong* echo, int fi
   for (int w = 0; w < BIT_WORDS; ++w) free[r * BIT_WORDS + w] &= ~echo[r * BIT_WORDS + w];
 }
 
-__kernel void mask_occupied(__global const short* map, __global ulong* occupied, int first_row,
-                            int end_row) {
+__kernel void mask_unconfirmed(__global const short* map, __global ulong* unconfirmed,
+                               int first_row, int end_row) {
   const int r = first_row + (int)get_global_id(0);
   if (r >= end_row) return;
   for (int w = 0; w < BIT_WORDS; ++w) {
     ulong bits = 0;
     for (int i = 0; i < 64 && 64 * w + i < WIDTH; ++i) {
-      bits |= (ulong)(map[CELL(r, 64 * w + i)] > 0) << i;
+      bits |= (ulong)(map[CELL(r, 64 * w + i)] >= 0) << i;
     }
-    occupied[r * BIT_WORDS + w] = bits;
+    unconfirmed[r * BIT_WORDS + w] = bits;
   }
 }
 
@@ -59,14 +60,14 @@ bool MaskInCone(int sensor_x, int sensor_y, int col, int row, int dx, int dy) {
 #endif
 }
 
-// The margin's cells among the candidates `out` of row r: those with an occupied neighbour
-// (occupied or echo) within MARGIN_CELLS in the cone, into kill.
-void MaskMargin(__global const ulong* occupied, __global const ulong* echo, int r, int sensor_x,
+// The margin's cells among the candidates `out` of row r: those with a source (unconfirmed or
+// echo) within MARGIN_CELLS in the cone, into kill.
+void MaskMargin(__global const ulong* unconfirmed, __global const ulong* echo, int r, int sensor_x,
                 int sensor_y, const ulong* out, ulong* kill) {
   for (int dy = -MARGIN_CELLS; dy <= MARGIN_CELLS; ++dy) {
     const int rr = r + dy;
     if (rr < 0 || rr >= HEIGHT) continue;
-    __global const ulong* occ = occupied + rr * BIT_WORDS;
+    __global const ulong* occ = unconfirmed + rr * BIT_WORDS;
     __global const ulong* ech = echo + rr * BIT_WORDS;
     for (int dx = -MARGIN_CELLS; dx <= MARGIN_CELLS; ++dx) {
       if (dx == 0 && dy == 0) continue;
@@ -84,7 +85,7 @@ void MaskMargin(__global const ulong* occupied, __global const ulong* echo, int 
 }
 
 __kernel void mask_rows(__global const ulong* free, __global const ulong* echo,
-                        __global const ulong* occupied, __global const short* map,
+                        __global const ulong* unconfirmed, __global const short* map,
                         __global ulong* mask, int first_row, int end_row, int span_begin,
                         int span_end, int sensor_x, int sensor_y, int sensor_col,
                         int sensor_row) {
@@ -107,7 +108,7 @@ __kernel void mask_rows(__global const ulong* free, __global const ulong* echo,
 #if MARGIN_CELLS > 0
   ulong kill[BIT_WORDS];
   for (int w = 0; w < BIT_WORDS; ++w) kill[w] = 0;
-  MaskMargin(occupied, echo, r, sensor_x, sensor_y, out, kill);
+  MaskMargin(unconfirmed, echo, r, sensor_x, sensor_y, out, kill);
   for (int w = 0; w < BIT_WORDS; ++w) out[w] &= ~kill[w];
 #endif
   if (r == sensor_row) out[sensor_col >> 6] |= 1UL << (sensor_col & 63);

@@ -52,8 +52,8 @@ std::vector<std::uint8_t> Expected(const Scene& s, const KernelParams& p) {
         for (int dx = -p.margin_cells; in && dx <= p.margin_cells; ++dx) {
           const int rr = r + dy, cc = c + dx;
           if ((dx == 0 && dy == 0) || rr < 0 || cc < 0 || rr >= s.height || cc >= s.width) continue;
-          const bool occupied = s.map[at(rr, cc)] > 0 || echo[at(rr, cc)];
-          if (occupied && InMarginCone(p, sensor.x, sensor.y, c, r, dx, dy)) in = false;
+          const bool source = s.map[at(rr, cc)] >= 0 || echo[at(rr, cc)];
+          if (source && InMarginCone(p, sensor.x, sensor.y, c, r, dx, dy)) in = false;
         }
       }
       mask[at(r, c)] = in || (r == sensor.cell.row && c == sensor.cell.col);
@@ -63,8 +63,8 @@ std::vector<std::uint8_t> Expected(const Scene& s, const KernelParams& p) {
 }
 
 // A hand-made map as rows of text, the top line the northern row: '.' free, '#' occupied
-// (log-odds above 0, not free), 'e' an echo of this scan in a cell the map holds free, 'o' the
-// sensor's cell (free), 'x' free but expected out of the mask.
+// (log-odds above 0, not free), '?' unknown (log-odds 0, not free), 'e' an echo of this scan in a
+// cell the map holds free, 'o' the sensor's cell (free), 'x' free but expected out of the mask.
 Scene FromText(const std::vector<std::string>& rows, std::vector<std::uint8_t>* expected) {
   Scene s;
   s.height = int(rows.size());
@@ -77,6 +77,7 @@ Scene FromText(const std::vector<std::string>& rows, std::vector<std::uint8_t>* 
       const char t = rows[s.height - 1 - r][c];
       const std::size_t i = std::size_t(r) * s.width + c;
       if (t == '#') s.free[i] = (*expected)[i] = 0, s.map[i] = 100;
+      if (t == '?') s.free[i] = (*expected)[i] = 0, s.map[i] = 0;
       if (t == 'e') s.free[i] = (*expected)[i] = 0, s.echoes.push_back(std::int32_t(i));
       if (t == 'x') (*expected)[i] = 0;
       if (t == 'o') s.sensor = Vec2(c + 0.5, r + 0.5);
@@ -103,6 +104,8 @@ TEST_P(MaskTest, MarginKeepsOutTheCellsInFrontOfAWallAsTheSensorSeesIt) {
       {{".........", "..#####..", "..xxxxx..", "..xxxxx..", ".........", "....o...."}, {2, 60}},
       // An echo of this scan counts as occupied, and is out of the mask itself.
       {{".........", "..eeeee..", "..xxxxx..", ".........", ".........", "....o...."}, {1, 60}},
+      // So does a cell the map does not know (log-odds 0): what lies there was never seen.
+      {{".........", "..?????..", "..xxxxx..", ".........", ".........", "....o...."}, {1, 60}},
   };
   for (const auto& [rows, margin] : cases) {
     std::vector<std::uint8_t> expected;
@@ -116,8 +119,8 @@ TEST_P(MaskTest, MarginKeepsOutTheCellsInFrontOfAWallAsTheSensorSeesIt) {
 
 TEST_P(MaskTest, TheSensorsOwnCellStays) {
   std::vector<std::uint8_t> expected;
-  Scene s = FromText({"..........", "..........", ".....#....", "....o.....", ".........."},
-                     &expected);
+  Scene s =
+      FromText({"..........", "..........", ".....#....", "....o.....", ".........."}, &expected);
   s.free[std::size_t(1) * s.width + 4] = 0;  // even where stage 3 left it out
   const KernelParams p = MarginParams(s.width, s.height, 1, 180);
   FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), p);

@@ -112,7 +112,7 @@ TEST(Parity, IntelLabInsidePolygonEveryScan) {
 Config IndoorInsideMargin(const SensorConfig& sensor) {
   Config c = IndoorInside(sensor);
   c.polygon.margin_cells = 1;
-  c.polygon.margin_cone_deg = 60.0;
+  c.polygon.margin_cone_deg = 45.0;
   return c;
 }
 

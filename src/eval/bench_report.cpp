@@ -86,7 +86,7 @@ void ComparePolygonShapes(const Config& config, const BenchSource& source,
   inside.polygon.shape = PolygonShape::kInside;
   if (config.polygon.shape != PolygonShape::kInside) {
     inside.polygon.margin_cells = 1;
-    inside.polygon.margin_cone_deg = 60.0;
+    inside.polygon.margin_cone_deg = 45.0;
   }
   report->paper_shape = TimePipeline(paper, source.scans, options.warmup);
   report->inside_shape = TimePipeline(inside, source.scans, options.warmup);

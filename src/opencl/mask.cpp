@@ -1,7 +1,7 @@
 // Stage 3b of OpenClBackend and the exact rays, the host side of kernels/mask.cl and of
 // insight_exact in kernels/insight.cl: the per-scan veto (this scan's echo cells, a bitset
-// built here and uploaded, out of the free mask), the polygon mask (the map's occupied bits,
-// then the mask a row per work-item), the exact border rays on it and their stops read back.
+// built here and uploaded, out of the free mask), the polygon mask (the margin's sources from the
+// map, then the mask a row per work-item), the exact border rays on it and their stops read back.
 #include <algorithm>
 
 #include "backend_internal.hpp"
@@ -22,17 +22,17 @@ constexpr cl_uint kFirstRow = 2;
 constexpr cl_uint kEndRow = 3;
 }  // namespace mask_veto_arg
 
-namespace mask_occupied_arg {
+namespace mask_unconfirmed_arg {
 constexpr cl_uint kMap = 0;
-constexpr cl_uint kOccupied = 1;
+constexpr cl_uint kUnconfirmed = 1;
 constexpr cl_uint kFirstRow = 2;
 constexpr cl_uint kEndRow = 3;
-}  // namespace mask_occupied_arg
+}  // namespace mask_unconfirmed_arg
 
 namespace mask_rows_arg {
 constexpr cl_uint kFree = 0;
 constexpr cl_uint kEcho = 1;
-constexpr cl_uint kOccupied = 2;
+constexpr cl_uint kUnconfirmed = 2;
 constexpr cl_uint kMap = 3;
 constexpr cl_uint kMask = 4;
 constexpr cl_uint kFirstRow = 5;
@@ -63,39 +63,38 @@ constexpr std::size_t kCpuRowGroup = 1, kGpuRowGroup = 32;
 
 void OpenClBackend::SetUpMask() {
   mask_veto_ = MakeKernel("mask_veto");
-  mask_occupied_ = MakeKernel("mask_occupied");
+  mask_unconfirmed_ = MakeKernel("mask_unconfirmed");
   mask_rows_ = MakeKernel("mask_rows");
   insight_exact_ = MakeKernel("insight_exact");
   const std::size_t words = std::size_t(BitWords()) * std::size_t(params_.height);
   auto buffer = [&](std::size_t bytes) {
     cl_int status = CL_SUCCESS;
-    opencl::Mem mem(
-        clCreateBuffer(device_->context(), CL_MEM_READ_WRITE, bytes, nullptr, &status));
+    opencl::Mem mem(clCreateBuffer(device_->context(), CL_MEM_READ_WRITE, bytes, nullptr, &status));
     Check(status, "clCreateBuffer");
     return mem;
   };
   echo_ = buffer(words * 8);
-  occupied_bits_ = buffer(words * 8);
+  unconfirmed_bits_ = buffer(words * 8);
   mask_ = buffer(words * 8);
   exact_stops_ = buffer(labels() * 12);
   Fill(echo_.get(), words * 8);
-  Fill(occupied_bits_.get(), words * 8);
+  Fill(unconfirmed_bits_.get(), words * 8);
   Fill(mask_.get(), words * 8);
   echo_host_.assign(words, 0);
   echo_cells_.reserve(16384);
   exact_host_.assign(labels() * 3, 0);
   SetArg(mask_veto_.get(), mask_veto_arg::kFree, free_.get());
   SetArg(mask_veto_.get(), mask_veto_arg::kEcho, echo_.get());
-  SetArg(mask_occupied_.get(), mask_occupied_arg::kOccupied, occupied_bits_.get());
+  SetArg(mask_unconfirmed_.get(), mask_unconfirmed_arg::kUnconfirmed, unconfirmed_bits_.get());
   SetArg(mask_rows_.get(), mask_rows_arg::kFree, free_.get());
   SetArg(mask_rows_.get(), mask_rows_arg::kEcho, echo_.get());
-  SetArg(mask_rows_.get(), mask_rows_arg::kOccupied, occupied_bits_.get());
+  SetArg(mask_rows_.get(), mask_rows_arg::kUnconfirmed, unconfirmed_bits_.get());
   SetArg(mask_rows_.get(), mask_rows_arg::kMask, mask_.get());
   SetArg(insight_exact_.get(), insight_exact_arg::kMask, mask_.get());
   SetArg(insight_exact_.get(), insight_exact_arg::kStops, exact_stops_.get());
   exact_local_ = LocalSize(insight_exact_.get(), kExactGroup);
   row_local_ = bands_ ? kCpuRowGroup : kGpuRowGroup;
-  for (const cl_kernel k : {mask_veto_.get(), mask_occupied_.get(), mask_rows_.get()}) {
+  for (const cl_kernel k : {mask_veto_.get(), mask_unconfirmed_.get(), mask_rows_.get()}) {
     row_local_ = LocalSize(k, row_local_);
   }
   exact_global_ = RoundUp(labels(), exact_local_);
@@ -109,7 +108,8 @@ void OpenClBackend::SetEchoes(const std::int32_t* cells, int count) {
     Check(clWaitForEvents(1, &last), "clWaitForEvents");
   }
   const int width = params_.width, nw = BitWords();
-  for (const std::int32_t c : echo_cells_) echo_host_[std::size_t(c / width) * nw + (c % width) / 64] = 0;
+  for (const std::int32_t c : echo_cells_)
+    echo_host_[std::size_t(c / width) * nw + (c % width) / 64] = 0;
   RowSpan rows;
   echo_cells_.assign(cells, cells + count);
   for (const std::int32_t c : echo_cells_) {
@@ -147,12 +147,12 @@ void OpenClBackend::Mask(const SensorCell& sensor) {
   mask_span_ = span;
   if (write.empty()) return;
   opencl::Event begin, end;
-  const RowSpan occupied = write.Widened(k, height);
-  SetArg(mask_occupied_.get(), mask_occupied_arg::kMap, map_[current_].get());
-  SetArg(mask_occupied_.get(), mask_occupied_arg::kFirstRow, cl_int(occupied.begin));
-  SetArg(mask_occupied_.get(), mask_occupied_arg::kEndRow, cl_int(occupied.end));
-  std::size_t global = RoundUp(std::size_t(occupied.end - occupied.begin), row_local_);
-  Launch(mask_occupied_.get(), 1, &global, &row_local_, begin.out());
+  const RowSpan sources = write.Widened(k, height);
+  SetArg(mask_unconfirmed_.get(), mask_unconfirmed_arg::kMap, map_[current_].get());
+  SetArg(mask_unconfirmed_.get(), mask_unconfirmed_arg::kFirstRow, cl_int(sources.begin));
+  SetArg(mask_unconfirmed_.get(), mask_unconfirmed_arg::kEndRow, cl_int(sources.end));
+  std::size_t global = RoundUp(std::size_t(sources.end - sources.begin), row_local_);
+  Launch(mask_unconfirmed_.get(), 1, &global, &row_local_, begin.out());
   const cl_kernel rows = mask_rows_.get();
   SetArg(rows, mask_rows_arg::kMap, map_[current_].get());
   SetArg(rows, mask_rows_arg::kFirstRow, cl_int(write.begin));

@@ -37,7 +37,7 @@ class HostBackend final : public Backend {
   void InSight(CellIndex vehicle, std::vector<CellIndex>* edges) override;  // host/insight.cpp
   void InSightExact(const SensorCell& sensor, std::vector<RayStop>* stops,  // host/insight.cpp
                     std::vector<CellIndex>* edges) override;
-  void Shift(int dx, int dy) override;                                      // host/shift.cpp
+  void Shift(int dx, int dy) override;  // host/shift.cpp
   void Clear() override;
 
   void ReadLogOdds(LogOdds* dst) override;
@@ -68,9 +68,10 @@ class HostBackend final : public Backend {
   RowSpan bits_rows_;
   RowSpan free_rows_;
   std::vector<std::uint8_t> update_;  // stage 1 -> stage 2
-  // Stage 3 bitsets, 64 cells a word, rows of (width + 63) / 64 words; bits_occupied_: log-odds
-  // above 0, for the margin of stage 3b, on the rows of bits_rows_.
-  std::vector<std::uint64_t> bits_strong_, bits_weak_, bits_a_, bits_b_, bits_occupied_;
+  // Stage 3 bitsets, 64 cells a word, rows of (width + 63) / 64 words; bits_unconfirmed_:
+  // log-odds >= 0, the margin's sources in stage 3b, on the rows of bits_rows_ (every other row
+  // is unknown).
+  std::vector<std::uint64_t> bits_strong_, bits_weak_, bits_a_, bits_b_, bits_unconfirmed_;
   std::vector<std::uint64_t> free_;       // stage 3 output, stage 4 input: bitset rows
   std::vector<std::uint64_t> echo_;       // this scan's echo cells (SetEchoes), bitset rows
   std::vector<std::int32_t> echo_cells_;  // and as given, to clear them for the next scan

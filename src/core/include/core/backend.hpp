@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "core/exact_ray.hpp"
+#include "core/fixed_point.hpp"
 #include "freespace/config.hpp"
 #include "freespace/result.hpp"
-#include "core/fixed_point.hpp"
 #include "freespace/types.hpp"
 
 namespace freespace {
@@ -210,14 +210,15 @@ class Backend {
 
   // The per-scan veto layer: the cells holding a kept echo of this scan (row * width + col,
   // inside the map; repeats allowed), in place of the last scan's. With params.veto_echoes the
-  // next Classify() keeps them out of the free mask; Mask() counts them as occupied.
+  // next Classify() keeps them out of the free mask; Mask() counts them as margin sources.
   virtual void SetEchoes(const std::int32_t* cells, int count) = 0;
 
   // Kernel stage 3b, after Classify() (polygon.shape inside): the polygon mask. A cell is in it
   // when it is free in the free mask, or lies within opening_radius (Chebyshev) of the sensor's
-  // cell with log-odds below 0 and no echo of this scan; and no occupied cell (log-odds above
-  // 0, or an echo of this scan) lies within margin_cells of it (Chebyshev) in the margin's cone
-  // (InMarginCone). The sensor's own cell always is.
+  // cell with log-odds below 0 and no echo of this scan; and no margin source (a cell with
+  // log-odds >= 0: occupied, or never seen free more often than occupied; or an echo of this
+  // scan) lies within margin_cells of it (Chebyshev) in the margin's cone (InMarginCone). The
+  // sensor's own cell always is.
   virtual void Mask(const SensorCell& sensor) = 0;
 
   // Kernel stage 4 of the conservative polygon, after Mask(): an exact ray (TraceExactRay) from

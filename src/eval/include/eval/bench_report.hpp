@@ -163,7 +163,7 @@ struct BenchReport {
 
   AlignmentComparison alignment;          // circle vs rotate, TBB
   // The paper's polygon against the conservative one (the config's margin, or the road setup's
-  // one-cell margin in a 60 deg cone when the config has none), same scans, TBB.
+  // one-cell margin in a 45 deg cone when the config has none), same scans, TBB.
   PipelineRun paper_shape, inside_shape;
   std::optional<ScalingResults> scaling;  // with --scaling
   BenchComparisons comparisons;

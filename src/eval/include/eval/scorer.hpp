@@ -22,6 +22,10 @@ class TruthScorer {
   // no such scan or its time differs from result.timestamp_s by more than 1e-6 s.
   ScanMetrics Score(std::size_t index, const MapView& map, const Result& result);
 
+  // The per-cell results of the last Score() (covered and polygon fractions), for drawing and
+  // diagnostics.
+  const QualityEvaluator& evaluator() const { return evaluator_; }
+
   // The index of the truth's scan at time t (within 1e-6 s); throws InputError when none is.
   std::size_t Find(double t) const;
 

@@ -278,11 +278,11 @@ class OpenClBackend final : public Backend {
   opencl::Event upload_done_;             // the last upload from job_host_
 
   // Stage 3b and the exact rays (mask.cpp, kernels/mask.cl, insight_exact in insight.cl).
-  opencl::Kernel mask_veto_, mask_occupied_, mask_rows_, insight_exact_;
-  opencl::Mem echo_;           // this scan's echo cells, bitset rows (uploaded by SetEchoes)
-  opencl::Mem occupied_bits_;  // the map's log-odds above 0, bitset rows
-  opencl::Mem mask_;           // the polygon mask, bitset rows
-  opencl::Mem exact_stops_;    // the exact rays' stops, 3 ints a label
+  opencl::Kernel mask_veto_, mask_unconfirmed_, mask_rows_, insight_exact_;
+  opencl::Mem echo_;              // this scan's echo cells, bitset rows (uploaded by SetEchoes)
+  opencl::Mem unconfirmed_bits_;  // the margin's sources: the map's log-odds >= 0, bitset rows
+  opencl::Mem mask_;              // the polygon mask, bitset rows
+  opencl::Mem exact_stops_;       // the exact rays' stops, 3 ints a label
   std::vector<std::uint64_t> echo_host_;  // the echo bitset's staging
   std::vector<std::int32_t> echo_cells_;  // its cells, to clear them for the next scan
   RowSpan echo_rows_;                     // the rows of echo_host_ with a set bit
