@@ -20,8 +20,9 @@ GRID.yaml (paths relative to the file):
       polygon.margin_cells: [0, 1, 2]
 
 Cases: every setting x (every scenario x seed, and every log). Each task builds its own
-Estimator (a simulated drive takes the sensor of its scanner, a log the sensor the log implies
-unless its config sets one). Writes OUT/cases.csv, OUT/aggregates.csv, OUT/sweep.json and,
+Estimator. A simulated drive keeps the config's sensor when the config sets one (a `sensor`
+section or override), else takes its scanner's; a log takes the sensor it implies unless its own
+config sets one. Writes OUT/cases.csv, OUT/aggregates.csv, OUT/sweep.json and,
 with matplotlib, OUT/tradeoff.png.
 """
 
@@ -135,12 +136,16 @@ def make_cases(grid, threads_per_task=1):
         threads = {"backend.threads": threads_per_task}
         config = base.with_overrides(setting).with_overrides(threads)
         common = {"setting": setting}
+        # As freespace eval and demo: a config that sets the sensor keeps it, else the drive's
+        # scanner gives it.
+        keep_sensor = (_sets_sensor(grid["config"]) or
+                       any(k.startswith("sensor") for k in list(grid["overrides"]) + keys))
         for scenario in grid["scenarios"]:
             for seed in grid["seeds"]:
                 cases.append(dict(common, kind="sim", scenario=scenario, seed=seed,
                                   duration_s=grid["duration_s"],
                                   odometry_noise=grid["odometry_noise"],
-                                  config=config.to_yaml()))
+                                  keep_sensor=keep_sensor, config=config.to_yaml()))
         for entry in grid["logs"]:
             log_config = config
             if entry.get("config"):
@@ -178,7 +183,8 @@ def _row(case, drive_metrics, stage_us, scans, rejected, started):
 def _run_sim(case, config, started):
     drive = fs.evaluate_drive(config, case["scenario"], case["seed"],
                               duration_s=case["duration_s"],
-                              odometry_noise=case["odometry_noise"])
+                              odometry_noise=case["odometry_noise"],
+                              keep_sensor=case["keep_sensor"])
     summary = fs.seed_summary([drive])[0]
     return _row(case, summary["per_seed"][0], summary["stage_us"], drive.scans, drive.rejected,
                 started)
@@ -292,6 +298,7 @@ def run_sweep(cases, workers=2, scheduler=None):
     package_parent = os.path.dirname(os.path.dirname(os.path.abspath(fs.__file__)))
     paths = [package_parent] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
     os.environ["PYTHONPATH"] = os.pathsep.join(dict.fromkeys(paths))
+    load_start = os.getloadavg()[0]
     started = time.perf_counter()
     cluster = None
     if scheduler:
@@ -315,7 +322,8 @@ def run_sweep(cases, workers=2, scheduler=None):
             cluster.close()
     rows.sort(key=lambda r: r["case"])
     return rows, {"startup_s": ready - started, "run_s": done - ready, "workers": n_workers,
-                  "scheduler": scheduler or "local (127.0.0.1)"}
+                  "scheduler": scheduler or "local (127.0.0.1)",
+                  "load_average_start": load_start, "load_average_end": os.getloadavg()[0]}
 
 
 def write_outputs(out, grid, rows, aggregates, timing):

@@ -4,8 +4,10 @@ errors as exceptions, and the same polygons as `freespace run` writes for a reco
 import json
 import os
 import subprocess
+import sys
 import tempfile
 import threading
+import time
 import unittest
 
 import numpy as np
@@ -126,6 +128,37 @@ class EstimatorTest(unittest.TestCase):
         c = fs.Config.from_dict({"backend.kind": "opencl", "backend.opencl_platform": "no-such"})
         with self.assertRaisesRegex(fs.BackendError, "no-such"):
             fs.Estimator(c)
+
+    def seen_inside(self, call):
+        """Whether the main thread saw a worker thread inside call(points, pose, t). With a
+        switch interval of 100 s the interpreter never takes the GIL from a thread between
+        bytecodes: the main thread runs while the worker is inside only if call lets go of
+        the GIL."""
+        state = {"in_call": False, "seen": False}
+        arrays = [(s.points, s.pose, s.t) for s in self.scans]
+
+        def work():
+            for points, pose, t in arrays:
+                state["in_call"] = True
+                call(points, pose, t)
+                state["in_call"] = False
+
+        old = sys.getswitchinterval()
+        sys.setswitchinterval(100.0)
+        try:
+            worker = threading.Thread(target=work)
+            worker.start()
+            while worker.is_alive():
+                state["seen"] |= state["in_call"]
+                time.sleep(1e-4)  # gives the worker the GIL
+            worker.join()
+        finally:
+            sys.setswitchinterval(old)
+        return state["seen"]
+
+    def test_process_releases_the_gil(self):
+        self.assertTrue(self.seen_inside(fs.Estimator(self.config).process))
+        self.assertFalse(self.seen_inside(fs.Scan))  # the control: Scan() holds the GIL
 
     def test_estimators_on_threads_match_one_by_one(self):
         ref = fs.Estimator(self.config)

@@ -75,7 +75,9 @@ class SweepTest(unittest.TestCase):
         for case, row in zip(cases, rows):
             if case["kind"] == "sim":
                 config = fs.Config.from_yaml(case["config"])
-                drive = fs.evaluate_drive(config, case["scenario"], case["seed"], duration_s=2)
+                self.assertTrue(case["keep_sensor"])  # scala.yaml sets the sensor
+                drive = fs.evaluate_drive(config, case["scenario"], case["seed"], duration_s=2,
+                                          keep_sensor=True)
                 key = (case["setting"]["polygon.margin_cells"], case["scenario"])
                 drives.setdefault(key, []).append(drive)
                 self.assertEqual(row["scans"], drive.scans)
