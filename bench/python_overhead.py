@@ -21,6 +21,18 @@ import time
 import freespace as fs
 
 
+def cpu_name():
+    """The model name of /proc/cpuinfo, else the platform's machine type."""
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.machine()
+
+
 def quantile(values, q):
     v = sorted(values)
     return v[min(len(v) - 1, max(0, int(round(q * (len(v) - 1)))))]
@@ -66,7 +78,7 @@ def main():
     report = {"scenario": args.scenario, "seed": args.seed, "map_cells": args.map,
               "scans": len(scans), "passes": args.passes, "backend": est.backend_name,
               "points_per_scan_median": statistics.median(len(s) for s in scans),
-              "python": sys.version.split()[0], "machine": platform.processor() or platform.machine(),
+              "python": sys.version.split()[0], "cpu": cpu_name(), "cores": os.cpu_count(),
               "date_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
               "load_average_start": os.getloadavg()[0]}
     for form in ("array", "scan"):

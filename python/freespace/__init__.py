@@ -7,7 +7,7 @@ MetricsSeries, evaluate_drive, seed_summary) and `freespace-sweep` (freespace.sw
 grids of drives on a Dask cluster. docs/python.md is the guide.
 """
 
-from ._freespace import (  # noqa: F401  (the package's API)
+from ._freespace import (
     BackendError,
     Config,
     ConfigError,
@@ -37,3 +37,10 @@ import numpy as _np
 POINT_DTYPE = _np.dtype(
     [("layer", _np.uint8), ("angle", _np.float32), ("range", _np.float32), ("echo", _np.uint8)]
 )
+
+__all__ = [
+    "BackendError", "Config", "ConfigError", "DriveEvaluation", "Estimator", "InputError",
+    "LogReader", "Map", "MetricsSeries", "POINT_DTYPE", "Result", "Scan", "ScanMetrics",
+    "Simulation", "StageSeries", "Truth", "TruthScorer", "evaluate_drive", "open_log",
+    "read_truth", "scenario_names", "seed_summary",
+]

@@ -126,7 +126,8 @@ class SweepTest(unittest.TestCase):
         self.assertIn("no plot: --no-plot", run.stdout)
         with open(os.path.join(out, "sweep.json")) as f:
             rows = json.load(f)["cases"]
-        self.assertEqual([(r["scenario"], r["seed"], r["error"]) for r in rows], [("highway", 5, "")])
+        self.assertEqual([(r["scenario"], r["seed"], r["error"]) for r in rows],
+                         [("highway", 5, "")])
         self.assertGreater(rows[0]["scans"], 0)
 
     def test_bad_grid_is_an_error_naming_the_key(self):
