@@ -221,8 +221,8 @@ def run_case(case):
     """One case, start to end, in this process: its own Estimator, a row of the table. An
     error is the row's `error` (the sweep reports it and exits 1), never a lost case."""
     started = time.perf_counter()
-    config = fs.Config.from_yaml(case["config"], f"case {case['case']}")
     try:
+        config = fs.Config.from_yaml(case["config"], f"case {case['case']}")
         if case["kind"] == "sim":
             return _run_sim(case, config, started)
         return _run_log(case, config, started)
@@ -288,10 +288,41 @@ def _write_csv(path, rows):
         writer.writerows(rows)
 
 
-def run_sweep(cases, workers=2, scheduler=None):
+def _progress_line(row, done, total):
+    what = f"{row['scenario']} seed {row['seed']}" if row["kind"] == "sim" else row["log"]
+    if row["error"]:
+        return f"freespace-sweep: [{done}/{total}] case {row['case']} ({what}): {row['error']}"
+    return (f"freespace-sweep: [{done}/{total}] case {row['case']} ({what}): {row['scans']} scans, "
+            f"accuracy {row['accuracy']:.4f}, intrusion {row['intrusion_m2']:.4f} m2, coverage "
+            f"{row['coverage']:.4f}, {row['wall_s']:.1f} s")
+
+
+def _collect(futures, cases, quiet):
+    """Each case's row as its task ends. A task that ends without a row (its worker lost, the
+    cluster gone) gives a row whose error says so: no case is dropped."""
+    from dask.distributed import as_completed
+
+    by_key = {f.key: c for f, c in zip(futures, cases)}
+    rows = []
+    for future in as_completed(futures):
+        try:
+            row = future.result()
+        except Exception as e:  # noqa: BLE001 (reported in the row)
+            row = _row(by_key[future.key], {}, {s: math.nan for s in STAGES}, 0, 0,
+                       time.perf_counter())
+            row.update({"wall_s": math.nan, "worker": "",
+                        "error": f"task failed on the cluster: {type(e).__name__}: {e}"})
+        rows.append(row)
+        if not quiet:
+            print(_progress_line(row, len(rows), len(cases)), flush=True)
+    return rows
+
+
+def run_sweep(cases, workers=2, scheduler=None, quiet=True):
     """Runs every case as a Dask task: on the cluster at `scheduler` (tcp://HOST:PORT), or on a
     local cluster of `workers` processes, one thread each, on the loopback interface. Returns
-    the rows in case order and the timing {"startup_s", "run_s", "workers"}."""
+    the rows in case order and the timing {"startup_s", "run_s", "workers", ...}; unless
+    `quiet`, prints a line per case as it ends."""
     from dask.distributed import Client, LocalCluster
 
     # Worker processes import freespace from where this one did.
@@ -314,7 +345,7 @@ def run_sweep(cases, workers=2, scheduler=None):
         ready = time.perf_counter()
         futures = client.map(run_case, cases, key=[f"freespace-case-{c['case']}" for c in cases],
                              pure=False)
-        rows = client.gather(futures)
+        rows = _collect(futures, cases, quiet)
         done = time.perf_counter()
     finally:
         client.close()
@@ -366,7 +397,7 @@ def main(argv=None):
     if not args.quiet:
         where = args.scheduler or f"a local cluster of {args.workers} workers"
         print(f"freespace-sweep: {len(cases)} cases on {where}", flush=True)
-    rows, timing = run_sweep(cases, args.workers, args.scheduler)
+    rows, timing = run_sweep(cases, args.workers, args.scheduler, args.quiet)
     aggregates = aggregate(rows)
     write_outputs(args.out, grid, rows, aggregates, timing)
     plot = None

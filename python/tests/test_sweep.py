@@ -29,6 +29,10 @@ logs:
 """
 
 
+def _lost_task(case):
+    raise RuntimeError("worker gone")
+
+
 def same(a, b):
     return (isinstance(a, float) and isinstance(b, float) and math.isnan(a) and math.isnan(b)) \
         or a == b
@@ -66,6 +70,7 @@ class SweepTest(unittest.TestCase):
         self.assertEqual(len({r["worker"] for r in rows}), 2)
         self.assertTrue(all(r["error"] == "" for r in rows))
         self.assertIn("10 cases", self.proc.stdout)
+        self.assertEqual(self.proc.stdout.count("freespace-sweep: ["), 10)  # a line per case
 
     def test_table_equals_the_cases_run_one_by_one(self):
         cases = sweep.make_cases(sweep.load_grid(self.grid_path))
@@ -124,11 +129,27 @@ class SweepTest(unittest.TestCase):
                               "--no-plot"], capture_output=True, text=True)
         self.assertEqual(run.returncode, 0, run.stderr)
         self.assertIn("no plot: --no-plot", run.stdout)
+        self.assertIn("[1/1] case 0 (highway seed 5): ", run.stdout)
         with open(os.path.join(out, "sweep.json")) as f:
             rows = json.load(f)["cases"]
         self.assertEqual([(r["scenario"], r["seed"], r["error"]) for r in rows],
                          [("highway", 5, "")])
         self.assertGreater(rows[0]["scans"], 0)
+
+    def test_a_task_lost_on_the_cluster_is_a_row_with_its_error(self):
+        from dask.distributed import Client, LocalCluster
+
+        cases = sweep.make_cases(sweep.load_grid(self.grid_path))[:2]
+        # A cluster of threads in this process (inproc://): the task raises where a worker
+        # process would have died.
+        with LocalCluster(n_workers=1, processes=False, dashboard_address="127.0.0.1:0") as \
+                cluster, Client(cluster) as client:
+            futures = client.map(_lost_task, cases, pure=False)
+            rows = sweep._collect(futures, cases, quiet=True)
+        self.assertEqual(sorted(r["case"] for r in rows), [0, 1])
+        for r in rows:
+            self.assertIn("task failed on the cluster: RuntimeError: worker gone", r["error"])
+            self.assertTrue(math.isnan(r["accuracy"]))
 
     def test_bad_grid_is_an_error_naming_the_key(self):
         bad = os.path.join(self.dir.name, "bad.yaml")
