@@ -8,6 +8,8 @@ packages=(
   libeigen3-dev libtbb-dev libopencv-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   libgtest-dev libbenchmark-dev
+  pybind11-dev python3-dev python3-numpy python3-yaml python3-dask python3-distributed
+  python3-matplotlib
 )
 
 missing=()

@@ -1,0 +1,425 @@
+"""freespace-sweep: quality and timing over a grid of simulated drives, recorded logs and config
+overrides, every case a task on a Dask cluster (docs/python.md, "Sweeps").
+
+    freespace-sweep GRID.yaml --out out/sweep --workers 2
+    freespace-sweep GRID.yaml --scheduler tcp://HOST:8786
+    python3 -m freespace.sweep GRID.yaml ...
+
+GRID.yaml (paths relative to the file):
+
+    config: ../configs/scala.yaml   # the base config (default: the engine's defaults)
+    overrides: {polygon.epsilon_m: 0.12}  # applied to the base for every case
+    scenarios: [urban, highway, parking]
+    seeds: 1-8                      # "1-8", "1,3,5-7" or a list of integers
+    duration_s: 0                   # 0: each scenario's own
+    odometry_noise: none            # none, typical or poor
+    logs:                           # recorded or simulated logs (optional)
+      - {log: ../../shared/data/carmen/intel.clf, config: ../configs/indoor.yaml, max_scans: 0}
+      - {log: out/sim/sim.fslog, truth: out/sim/truth.json}
+    grid:                           # every combination of these overrides is a setting
+      polygon.margin_cells: [0, 1, 2]
+
+Cases: every setting x (every scenario x seed, and every log). Each task builds its own
+Estimator. A simulated drive keeps the config's sensor when the config sets one (a `sensor`
+section or override), else takes its scanner's; a log takes the sensor it implies unless its own
+config sets one. Writes OUT/cases.csv, OUT/aggregates.csv, OUT/sweep.json and,
+with matplotlib, OUT/tradeoff.png.
+"""
+
+import argparse
+import csv
+import itertools
+import json
+import math
+import os
+import socket
+import sys
+import time
+
+import yaml
+
+import freespace as fs
+
+# Per-drive means of the scores (docs/metrics.md), as seed_summary's per_seed rows hold them.
+METRICS = ("accuracy", "false_free_rate", "intrusion_m2", "intrusion_moving_m2",
+           "intrusion_mask_m2", "intrusion_geometric_m2", "coverage", "coverage_seen")
+STAGES = ("preprocess", "align", "rasterize", "fuse", "classify", "mask", "insight", "polygon",
+          "total")
+GRID_KEYS = {"config", "overrides", "scenarios", "seeds", "duration_s", "odometry_noise", "logs",
+             "grid"}
+LOG_KEYS = {"log", "config", "truth", "max_scans"}
+
+
+class GridError(ValueError):
+    """The grid file is missing, not YAML, or holds a key or value the sweep does not know."""
+
+
+def parse_seeds(value):
+    """"1-8", "1,3,5-7", an integer or a list of integers: the seeds in the order given."""
+    if isinstance(value, int) and not isinstance(value, bool):
+        return [value]
+    if isinstance(value, list) and all(isinstance(v, int) and v >= 0 for v in value) and value:
+        return value
+    if isinstance(value, str):
+        seeds = []
+        for part in value.split(","):
+            first, _, last = part.strip().partition("-")
+            if not first.isdigit() or (last and not last.isdigit()):
+                raise GridError(f"seeds '{value}': '{part}' is not a seed or a range")
+            a, b = int(first), int(last or first)
+            if b < a:
+                raise GridError(f"seeds '{value}': '{part}' is not a range")
+            seeds.extend(range(a, b + 1))
+        return seeds
+    raise GridError(f"seeds = {value!r}: give \"1-8\", \"1,3,5-7\" or a list of integers")
+
+
+def load_grid(path):
+    """The grid file as a dict of checked values (paths made absolute)."""
+    try:
+        with open(path) as f:
+            grid = yaml.safe_load(f) or {}
+    except OSError as e:
+        raise GridError(f"{path}: cannot read: {e.strerror}") from e
+    except yaml.YAMLError as e:
+        raise GridError(f"{path}: not valid YAML: {e}") from e
+    if not isinstance(grid, dict):
+        raise GridError(f"{path}: the top level must be a mapping")
+    unknown = set(grid) - GRID_KEYS
+    if unknown:
+        raise GridError(f"{path}: unknown key(s) {sorted(unknown)}; known: {sorted(GRID_KEYS)}")
+    here = os.path.dirname(os.path.abspath(path))
+
+    def resolve(p):
+        return p if os.path.isabs(p) else os.path.normpath(os.path.join(here, p))
+
+    out = {
+        "config": resolve(grid["config"]) if grid.get("config") else None,
+        "overrides": dict(grid.get("overrides") or {}),
+        "scenarios": list(grid.get("scenarios") or []),
+        "seeds": parse_seeds(grid["seeds"]) if "seeds" in grid else [1],
+        "duration_s": float(grid.get("duration_s", 0.0)),
+        "odometry_noise": str(grid.get("odometry_noise", "none")),
+        "logs": [],
+        "grid": dict(grid.get("grid") or {}),
+    }
+    for name in out["scenarios"]:
+        if name not in fs.scenario_names():
+            raise GridError(f"{path}: scenario '{name}': known are {fs.scenario_names()}")
+    for entry in grid.get("logs") or []:
+        entry = {"log": entry} if isinstance(entry, str) else dict(entry)
+        if "log" not in entry or set(entry) - LOG_KEYS:
+            raise GridError(f"{path}: a log entry needs 'log' and may have {sorted(LOG_KEYS)}; "
+                            f"got {sorted(entry)}")
+        for key in ("log", "config", "truth"):
+            if entry.get(key):
+                entry[key] = resolve(entry[key])
+        out["logs"].append(entry)
+    for key, values in out["grid"].items():
+        if not isinstance(values, list) or not values:
+            raise GridError(f"{path}: grid.{key} must be a non-empty list of values")
+    if not out["scenarios"] and not out["logs"]:
+        raise GridError(f"{path}: no scenarios and no logs: nothing to run")
+    return out
+
+
+def make_cases(grid, threads_per_task=1):
+    """Every case of the grid, in order: settings outermost, then scenarios x seeds, then logs.
+    Each case carries its whole config as YAML, so that a task needs nothing else."""
+    base = fs.Config.from_yaml_file(grid["config"]) if grid["config"] else fs.Config()
+    base = base.with_overrides(grid["overrides"])
+    keys = list(grid["grid"])
+    settings = [dict(zip(keys, combo)) for combo in
+                itertools.product(*(grid["grid"][k] for k in keys))]
+    cases = []
+    for setting in settings:
+        threads = {"backend.threads": threads_per_task}
+        config = base.with_overrides(setting).with_overrides(threads)
+        common = {"setting": setting}
+        # As freespace eval and demo: a config that sets the sensor keeps it, else the drive's
+        # scanner gives it.
+        keep_sensor = (_sets_sensor(grid["config"]) or
+                       any(k.startswith("sensor") for k in list(grid["overrides"]) + keys))
+        for scenario in grid["scenarios"]:
+            for seed in grid["seeds"]:
+                cases.append(dict(common, kind="sim", scenario=scenario, seed=seed,
+                                  duration_s=grid["duration_s"],
+                                  odometry_noise=grid["odometry_noise"],
+                                  keep_sensor=keep_sensor, config=config.to_yaml()))
+        for entry in grid["logs"]:
+            log_config = config
+            if entry.get("config"):
+                log_config = (fs.Config.from_yaml_file(entry["config"])
+                              .with_overrides(grid["overrides"]).with_overrides(setting)
+                              .with_overrides(threads))
+            cases.append(dict(common, kind="log", log=entry["log"], truth=entry.get("truth"),
+                              max_scans=int(entry.get("max_scans", 0)),
+                              config_sets_sensor=_sets_sensor(entry.get("config")),
+                              config=log_config.to_yaml()))
+    for i, case in enumerate(cases):
+        case["case"] = i
+    return cases
+
+
+def _sets_sensor(path):
+    if not path:
+        return False
+    with open(path) as f:
+        return "sensor" in (yaml.safe_load(f) or {})
+
+
+def _row(case, drive_metrics, stage_us, scans, rejected, started):
+    row = {"case": case["case"], "kind": case["kind"], "scenario": case.get("scenario", ""),
+           "seed": case.get("seed", ""), "log": case.get("log", "")}
+    row.update({k: v for k, v in case["setting"].items()})
+    row.update({"scans": scans, "rejected": rejected})
+    row.update({m: drive_metrics.get(m, math.nan) for m in METRICS})
+    row.update({f"{s}_us": stage_us[s] for s in STAGES})
+    row.update({"wall_s": time.perf_counter() - started,
+                "worker": f"{socket.gethostname()}:{os.getpid()}", "error": ""})
+    return row
+
+
+def _run_sim(case, config, started):
+    drive = fs.evaluate_drive(config, case["scenario"], case["seed"],
+                              duration_s=case["duration_s"],
+                              odometry_noise=case["odometry_noise"],
+                              keep_sensor=case["keep_sensor"])
+    summary = fs.seed_summary([drive])[0]
+    return _row(case, summary["per_seed"][0], summary["stage_us"], drive.scans, drive.rejected,
+                started)
+
+
+def _run_log(case, config, started):
+    reader = fs.open_log(case["log"])
+    if not case["config_sets_sensor"]:
+        config = config.with_overrides({"sensor": reader.sensor})
+    est = fs.Estimator(config)
+    scorer = fs.TruthScorer(fs.read_truth(case["truth"])) if case["truth"] else None
+    metrics, times = fs.MetricsSeries(), fs.StageSeries()
+    scans = rejected = 0
+    for scan in reader:
+        r = est.process(scan)
+        scans += 1
+        if r.status == "rejected":
+            rejected += 1
+        else:
+            times.add(r)
+            if scorer:
+                metrics.add(scorer.score(est.map(), r))
+        if case["max_scans"] and scans == case["max_scans"]:
+            break
+    means = {}
+    if scorer:
+        summary = metrics.summary()
+        means = {m: summary[m]["mean"] for m in METRICS}
+    stage_us = {s: times.quantile(s, 0.5) for s in STAGES}
+    return _row(case, means, stage_us, scans, rejected, started)
+
+
+def run_case(case):
+    """One case, start to end, in this process: its own Estimator, a row of the table. An
+    error is the row's `error` (the sweep reports it and exits 1), never a lost case."""
+    started = time.perf_counter()
+    try:
+        config = fs.Config.from_yaml(case["config"], f"case {case['case']}")
+        if case["kind"] == "sim":
+            return _run_sim(case, config, started)
+        return _run_log(case, config, started)
+    except Exception as e:  # noqa: BLE001 (reported in the row)
+        row = _row(case, {}, {s: math.nan for s in STAGES}, 0, 0, started)
+        row["error"] = f"{type(e).__name__}: {e}"
+        return row
+
+
+def _median(values):
+    """Nearest-rank median, as the engine's Quantile(values, 0.5)."""
+    v = sorted(values)
+    return v[min(len(v) - 1, math.ceil(0.5 * len(v)) - 1)] if v else 0.0
+
+
+def _worse_is_larger(metric):
+    return metric.startswith("intrusion") or metric == "false_free_rate"
+
+
+def aggregate(rows):
+    """Per setting and scenario, over seeds: the mean and the worst seed of each score (as
+    seed_summary), the median of the drives' median stage times, and the mean task time."""
+    groups = {}
+    for row in rows:
+        if row["kind"] != "sim" or row["error"]:
+            continue
+        key = (json.dumps(_setting_of(row), sort_keys=True), row["scenario"])
+        groups.setdefault(key, []).append(row)
+    out = []
+    for (setting, scenario), members in groups.items():
+        agg = {"scenario": scenario, **json.loads(setting), "seeds": len(members)}
+        for m in METRICS:
+            values = [r[m] for r in members]
+            agg[f"{m}_mean"] = sum(values) / len(values)
+            at = 0
+            for i, v in enumerate(values):
+                if (v > values[at]) if _worse_is_larger(m) else (v < values[at]):
+                    at = i
+            agg[f"{m}_worst"] = values[at]
+            agg[f"{m}_worst_seed"] = members[at]["seed"]
+        for s in STAGES:
+            agg[f"{s}_us"] = _median([r[f"{s}_us"] for r in members])
+        agg["wall_s_mean"] = sum(r["wall_s"] for r in members) / len(members)
+        out.append(agg)
+    return out
+
+
+_ROW_FIXED = {"case", "kind", "scenario", "seed", "log", "scans", "rejected", "wall_s", "worker",
+              "error"} | set(METRICS) | {f"{s}_us" for s in STAGES}
+
+
+def _setting_of(row):
+    return {k: v for k, v in row.items() if k not in _ROW_FIXED}
+
+
+def _write_csv(path, rows):
+    columns = []
+    for row in rows:
+        columns += [k for k in row if k not in columns]
+    with open(path, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=columns)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def _progress_line(row, done, total):
+    what = f"{row['scenario']} seed {row['seed']}" if row["kind"] == "sim" else row["log"]
+    if row["error"]:
+        return f"freespace-sweep: [{done}/{total}] case {row['case']} ({what}): {row['error']}"
+    return (f"freespace-sweep: [{done}/{total}] case {row['case']} ({what}): {row['scans']} scans, "
+            f"accuracy {row['accuracy']:.4f}, intrusion {row['intrusion_m2']:.4f} m2, coverage "
+            f"{row['coverage']:.4f}, {row['wall_s']:.1f} s")
+
+
+def _collect(futures, cases, quiet):
+    """Each case's row as its task ends. A task that ends without a row (its worker lost, the
+    cluster gone) gives a row whose error says so: no case is dropped."""
+    from dask.distributed import as_completed
+
+    by_key = {f.key: c for f, c in zip(futures, cases)}
+    rows = []
+    for future in as_completed(futures):
+        try:
+            row = future.result()
+        except Exception as e:  # noqa: BLE001 (reported in the row)
+            row = _row(by_key[future.key], {}, {s: math.nan for s in STAGES}, 0, 0,
+                       time.perf_counter())
+            row.update({"wall_s": math.nan, "worker": "",
+                        "error": f"task failed on the cluster: {type(e).__name__}: {e}"})
+        rows.append(row)
+        if not quiet:
+            print(_progress_line(row, len(rows), len(cases)), flush=True)
+    return rows
+
+
+def run_sweep(cases, workers=2, scheduler=None, quiet=True):
+    """Runs every case as a Dask task: on the cluster at `scheduler` (tcp://HOST:PORT), or on a
+    local cluster of `workers` processes, one thread each, on the loopback interface. Returns
+    the rows in case order and the timing {"startup_s", "run_s", "workers", ...}; unless
+    `quiet`, prints a line per case as it ends."""
+    from dask.distributed import Client, LocalCluster
+
+    # Worker processes import freespace from where this one did.
+    package_parent = os.path.dirname(os.path.dirname(os.path.abspath(fs.__file__)))
+    paths = [package_parent] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+    os.environ["PYTHONPATH"] = os.pathsep.join(dict.fromkeys(paths))
+    load_start = os.getloadavg()[0]
+    started = time.perf_counter()
+    cluster = None
+    if scheduler:
+        client = Client(scheduler)
+    else:
+        # Every socket of the cluster on the loopback interface, the HTTP servers on free ports.
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                               worker_dashboard_address="127.0.0.1:0")
+        client = Client(cluster)
+    try:
+        n_workers = len(client.scheduler_info()["workers"])
+        ready = time.perf_counter()
+        futures = client.map(run_case, cases, key=[f"freespace-case-{c['case']}" for c in cases],
+                             pure=False)
+        rows = _collect(futures, cases, quiet)
+        done = time.perf_counter()
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    rows.sort(key=lambda r: r["case"])
+    return rows, {"startup_s": ready - started, "run_s": done - ready, "workers": n_workers,
+                  "scheduler": scheduler or "local (127.0.0.1)",
+                  "load_average_start": load_start, "load_average_end": os.getloadavg()[0]}
+
+
+def write_outputs(out, grid, rows, aggregates, timing):
+    os.makedirs(out, exist_ok=True)
+    _write_csv(os.path.join(out, "cases.csv"), rows)
+    if aggregates:
+        _write_csv(os.path.join(out, "aggregates.csv"), aggregates)
+    with open(os.path.join(out, "sweep.json"), "w") as f:
+        json.dump({"definitions": "docs/metrics.md, docs/python.md", "grid": grid,
+                   "timing": timing, "cases": rows, "aggregates": aggregates}, f, indent=1)
+
+
+def parse_args(argv):
+    p = argparse.ArgumentParser(prog="freespace-sweep", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("grid", help="the grid file (YAML; see python3 -m pydoc freespace.sweep)")
+    p.add_argument("--out", default="out/sweep", help="output folder (default out/sweep)")
+    p.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+                   help="worker processes of the local cluster (default: this machine's cores)")
+    p.add_argument("--scheduler", help="tcp://HOST:PORT of an existing Dask scheduler")
+    p.add_argument("--threads-per-task", type=int, default=1,
+                   help="TBB threads of each task's estimator (backend.threads; default 1, so "
+                        "that N workers keep N cores busy)")
+    p.add_argument("--no-plot", action="store_true", help="write no tradeoff.png")
+    p.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    args = p.parse_args(argv)
+    if args.workers < 1 or args.threads_per_task < 0:
+        p.error("--workers must be >= 1 and --threads-per-task >= 0")
+    return args
+
+
+def main(argv=None):
+    args = parse_args(sys.argv[1:] if argv is None else argv)
+    try:
+        grid = load_grid(args.grid)
+        cases = make_cases(grid, args.threads_per_task)
+    except (GridError, fs.ConfigError, TypeError, OSError) as e:
+        print(f"freespace-sweep: {e}", file=sys.stderr)
+        return 2
+    if not args.quiet:
+        where = args.scheduler or f"a local cluster of {args.workers} workers"
+        print(f"freespace-sweep: {len(cases)} cases on {where}", flush=True)
+    rows, timing = run_sweep(cases, args.workers, args.scheduler, args.quiet)
+    aggregates = aggregate(rows)
+    write_outputs(args.out, grid, rows, aggregates, timing)
+    plot = None
+    if not args.no_plot and aggregates:
+        from freespace.sweep_plot import plot_tradeoff
+        plot = plot_tradeoff(os.path.join(args.out, "tradeoff.png"), aggregates, grid)
+    failed = [r for r in rows if r["error"]]
+    for r in failed:
+        print(f"freespace-sweep: case {r['case']} failed: {r['error']}", file=sys.stderr)
+    if not args.quiet:
+        if plot:
+            plotted = ", " + os.path.basename(plot)
+        elif not aggregates:
+            plotted = " (no plot: no simulated drives)"
+        else:
+            plotted = " (no plot: " + ("--no-plot" if args.no_plot else
+                                       "matplotlib is not installed") + ")"
+        print(f"freespace-sweep: {len(rows)} cases in {timing['run_s']:.1f} s on "
+              f"{timing['workers']} workers (cluster start {timing['startup_s']:.1f} s); wrote "
+              f"{args.out}/cases.csv, aggregates.csv, sweep.json{plotted}")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,171 @@
+"""freespace-sweep on a local Dask cluster of two worker processes over the loopback
+interface: its table equals the same cases run one by one in this process, its aggregates
+equal seed_summary's over those drives."""
+
+import csv
+import importlib.util
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import freespace as fs
+from freespace import sweep
+from common import data_dir, env_path, source_dir
+
+GRID = """
+config: {config}
+overrides: {{polygon.shape: inside}}
+scenarios: [urban, parking]
+seeds: 1-2
+duration_s: 2
+grid:
+  polygon.margin_cells: [0, 1]
+logs:
+  - {{log: {log}, config: {indoor}, max_scans: 40}}
+"""
+
+
+def _lost_task(case):
+    raise RuntimeError("worker gone")
+
+
+def same(a, b):
+    return (isinstance(a, float) and isinstance(b, float) and math.isnan(a) and math.isnan(b)) \
+        or a == b
+
+
+class SweepTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.TemporaryDirectory()
+        cls.grid_path = os.path.join(cls.dir.name, "grid.yaml")
+        with open(cls.grid_path, "w") as f:
+            f.write(GRID.format(config=os.path.join(source_dir(), "configs", "scala.yaml"),
+                                log=os.path.join(data_dir(), "carmen", "intel.clf"),
+                                indoor=os.path.join(source_dir(), "configs", "indoor.yaml")))
+        cls.out = os.path.join(cls.dir.name, "out")
+        cls.proc = subprocess.run(
+            [sys.executable, "-m", "freespace.sweep", cls.grid_path, "--workers", "2", "--out",
+             cls.out], capture_output=True, text=True)
+        if cls.proc.returncode == 0:
+            with open(os.path.join(cls.out, "sweep.json")) as f:
+                cls.result = json.load(f)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.dir.cleanup()
+
+    def setUp(self):
+        self.assertEqual(self.proc.returncode, 0, self.proc.stderr)
+
+    def test_runs_on_two_workers(self):
+        self.assertEqual(self.result["timing"]["workers"], 2)
+        rows = self.result["cases"]
+        self.assertEqual(len(rows), 2 * (2 * 2 + 1))
+        self.assertEqual([r["case"] for r in rows], list(range(len(rows))))
+        self.assertEqual(len({r["worker"] for r in rows}), 2)
+        self.assertTrue(all(r["error"] == "" for r in rows))
+        self.assertIn("10 cases", self.proc.stdout)
+        self.assertEqual(self.proc.stdout.count("freespace-sweep: ["), 10)  # a line per case
+
+    def test_table_equals_the_cases_run_one_by_one(self):
+        cases = sweep.make_cases(sweep.load_grid(self.grid_path))
+        rows = self.result["cases"]
+        skip = {"wall_s", "worker"} | {f"{s}_us" for s in sweep.STAGES}
+        drives = {}
+        for case, row in zip(cases, rows):
+            if case["kind"] == "sim":
+                config = fs.Config.from_yaml(case["config"])
+                self.assertTrue(case["keep_sensor"])  # scala.yaml sets the sensor
+                drive = fs.evaluate_drive(config, case["scenario"], case["seed"], duration_s=2,
+                                          keep_sensor=True)
+                key = (case["setting"]["polygon.margin_cells"], case["scenario"])
+                drives.setdefault(key, []).append(drive)
+                self.assertEqual(row["scans"], drive.scans)
+            expected = sweep.run_case(case)
+            self.assertEqual(set(row), set(expected))
+            for k in set(row) - skip:
+                self.assertTrue(same(row[k], expected[k]), f"case {case['case']} {k}: "
+                                f"{row[k]} vs {expected[k]}")
+        log_rows = [r for r in rows if r["kind"] == "log"]
+        self.assertEqual([r["scans"] for r in log_rows], [40, 40])
+        self.assertTrue(all(math.isnan(r["coverage"]) for r in log_rows))  # no truth
+        aggregates = self.result["aggregates"]
+        self.assertEqual(len(aggregates), 4)
+        for agg in aggregates:
+            summary = fs.seed_summary(drives[(agg["polygon.margin_cells"], agg["scenario"])])[0]
+            self.assertEqual(agg["seeds"], 2)
+            for m in sweep.METRICS:
+                self.assertAlmostEqual(agg[f"{m}_mean"], summary["mean"][m], places=12)
+                self.assertEqual(agg[f"{m}_worst"], summary["worst"][m]["value"])
+                self.assertEqual(agg[f"{m}_worst_seed"], summary["worst"][m]["seed"])
+
+    def test_writes_csv_and_plot(self):
+        with open(os.path.join(self.out, "cases.csv")) as f:
+            table = list(csv.DictReader(f))
+        self.assertEqual(len(table), len(self.result["cases"]))
+        self.assertIn("intrusion_m2", table[0])
+        self.assertIn("polygon.margin_cells", table[0])
+        with open(os.path.join(self.out, "aggregates.csv")) as f:
+            self.assertEqual(len(list(csv.DictReader(f))), 4)
+        plot = os.path.join(self.out, "tradeoff.png")
+        if importlib.util.find_spec("matplotlib"):
+            with open(plot, "rb") as f:
+                self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+        else:
+            self.assertFalse(os.path.exists(plot))
+            self.assertIn("matplotlib is not installed", self.proc.stdout)
+
+    def test_console_script_runs_a_sweep(self):
+        small = os.path.join(self.dir.name, "small.yaml")
+        with open(small, "w") as f:
+            f.write("scenarios: [highway]\nseeds: [5]\nduration_s: 1\n")
+        out = os.path.join(self.dir.name, "small")
+        run = subprocess.run([env_path("FREESPACE_SWEEP"), small, "--workers", "1", "--out", out,
+                              "--no-plot"], capture_output=True, text=True)
+        self.assertEqual(run.returncode, 0, run.stderr)
+        self.assertIn("no plot: --no-plot", run.stdout)
+        self.assertIn("[1/1] case 0 (highway seed 5): ", run.stdout)
+        with open(os.path.join(out, "sweep.json")) as f:
+            rows = json.load(f)["cases"]
+        self.assertEqual([(r["scenario"], r["seed"], r["error"]) for r in rows],
+                         [("highway", 5, "")])
+        self.assertGreater(rows[0]["scans"], 0)
+
+    def test_a_task_lost_on_the_cluster_is_a_row_with_its_error(self):
+        from dask.distributed import Client, LocalCluster
+
+        cases = sweep.make_cases(sweep.load_grid(self.grid_path))[:2]
+        # A cluster of threads in this process (inproc://): the task raises where a worker
+        # process would have died.
+        with LocalCluster(n_workers=1, processes=False, dashboard_address="127.0.0.1:0") as \
+                cluster, Client(cluster) as client:
+            futures = client.map(_lost_task, cases, pure=False)
+            rows = sweep._collect(futures, cases, quiet=True)
+        self.assertEqual(sorted(r["case"] for r in rows), [0, 1])
+        for r in rows:
+            self.assertIn("task failed on the cluster: RuntimeError: worker gone", r["error"])
+            self.assertTrue(math.isnan(r["accuracy"]))
+
+    def test_bad_grid_is_an_error_naming_the_key(self):
+        bad = os.path.join(self.dir.name, "bad.yaml")
+        with open(bad, "w") as f:
+            f.write("scenarios: [urban]\nseed: 3\n")
+        run = subprocess.run([sys.executable, "-m", "freespace.sweep", bad], capture_output=True,
+                             text=True)
+        self.assertEqual(run.returncode, 2)
+        self.assertIn("unknown key(s) ['seed']", run.stderr)
+        with open(bad, "w") as f:
+            f.write("scenarios: [urban]\ngrid: {polygon.margin_cels: [1]}\n")
+        run = subprocess.run([sys.executable, "-m", "freespace.sweep", bad], capture_output=True,
+                             text=True)
+        self.assertEqual(run.returncode, 2)
+        self.assertIn("unknown field 'polygon.margin_cels'", run.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
