@@ -6,6 +6,8 @@
 #include "freespace/errors.hpp"
 #include "freespace/estimator.hpp"
 #include "freespace/io.hpp"
+#include "freespace/log.hpp"
 #include "freespace/result.hpp"
 #include "freespace/scan.hpp"
 #include "freespace/types.hpp"
+#include "freespace/version.hpp"
