@@ -7,6 +7,7 @@
 #include "freespace/estimator.hpp"
 #include "freespace/io.hpp"
 #include "freespace/log.hpp"
+#include "freespace/map_io.hpp"
 #include "freespace/result.hpp"
 #include "freespace/scan.hpp"
 #include "freespace/types.hpp"

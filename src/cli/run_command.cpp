@@ -17,6 +17,7 @@
 #include "freespace/freespace.hpp"
 #include "output/render.hpp"
 #include "output/report.hpp"
+#include "output_options.hpp"
 
 namespace freespace::cli {
 namespace {
@@ -29,6 +30,8 @@ struct RunOptions {
   long max_scans = 0;
   bool strict = false;
   bool quiet = false;
+  std::string save_map;  // --save-map PREFIX
+  std::string polygon_format = "jsonl";
   EngineOptions engine;
 };
 
@@ -103,6 +106,7 @@ class LogRun {
     try {
       const int code = ProcessLog();
       if (code != kExitOk) return code;
+      SaveMapIfAsked(options_.save_map, estimator_->map(), "run");
     } catch (const std::exception& e) {
       std::cerr << "\nfreespace run: " << e.what() << "\n";
       return kExitSetup;
@@ -124,8 +128,9 @@ class LogRun {
       config_ = LoadEngineConfig(options_.engine, &reader_->sensor());
       MakeDirectories(options_.out);
       estimator_ = std::make_unique<Estimator>(config_);
-      polygons_.open(options_.out + "/polygons.jsonl", std::ios::trunc);
-      if (!polygons_) throw InputError(options_.out + "/polygons.jsonl: cannot create");
+      const std::string polygons = options_.out + "/" + PolygonFileName(options_.polygon_format);
+      polygons_.open(polygons, std::ios::trunc);
+      if (!polygons_) throw InputError(polygons + ": cannot create");
     } catch (const std::exception& e) {
       std::cerr << "freespace run: " << e.what() << "\n";
       return false;
@@ -223,7 +228,7 @@ class LogRun {
   // A processed scan: counted, its polygon line written, a snapshot every --snapshot-every.
   void Keep(const Result& r) {
     tally_.AddProcessed(r);
-    polygons_ << PolygonJsonLine(r.scan_index, r) << '\n';
+    polygons_ << PolygonLine(options_.polygon_format, r) << '\n';
     if (options_.snapshot_every > 0 && (tally_.processed - 1) % options_.snapshot_every == 0) {
       Snapshot(r);
     }
@@ -292,8 +297,9 @@ class LogRun {
     std::ofstream(options_.out + "/summary.json") << summary.dump(2) << "\n";
     std::cerr << (tty_ ? "\r" : "") << "freespace run: " << t.processed << " scans processed, "
               << skipped << " skipped, median " << t.times.MedianTotal() / 1000.0
-              << " ms/scan; wrote " << options_.out << "/polygons.jsonl, summary.json and "
-              << t.snapshots << " PNG(s)\n";
+              << " ms/scan; wrote " << options_.out << "/"
+              << PolygonFileName(options_.polygon_format) << ", summary.json and " << t.snapshots
+              << " PNG(s)\n";
   }
 
   const RunOptions& options_;
@@ -336,6 +342,8 @@ Command AddRunCommand(CLI::App& app) {
   command->add_flag("--strict", options->strict,
                     "Stop with exit code 1 at the first bad input instead of skipping it");
   command->add_flag("--quiet", options->quiet, "No progress line");
+  AddSaveMapOption(command, &options->save_map);
+  AddPolygonFormatOption(command, &options->polygon_format);
   AddEngineOptions(command, &options->engine);
   return {command, [options] { return LogRun(*options).Run(); }};
 }
