@@ -8,6 +8,9 @@ packages=(
   libeigen3-dev libtbb-dev libopencv-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   libgtest-dev libbenchmark-dev
+  # ROS 1 bags in and out (the optional freespace_ros target, ros/)
+  librosbag-storage-dev libroscpp-core-dev libstd-msgs-dev libsensor-msgs-dev libnav-msgs-dev
+  libgeometry-msgs-dev libtf2-msgs-dev
 )
 
 missing=()
