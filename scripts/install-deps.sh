@@ -10,6 +10,9 @@ packages=(
   libgtest-dev libbenchmark-dev
   pybind11-dev python3-dev python3-numpy python3-yaml python3-dask python3-distributed
   python3-matplotlib
+  # ROS 1 bags in and out (the optional freespace_ros target, ros/)
+  librosbag-storage-dev libroscpp-core-dev libstd-msgs-dev libsensor-msgs-dev libnav-msgs-dev
+  libgeometry-msgs-dev libtf2-msgs-dev
 )
 
 missing=()

@@ -8,6 +8,7 @@ fail() { echo "FAIL: $*"; exit 1; }
 
 "$bin" --help | grep -q "run" || fail "--help does not list run"
 "$bin" run --help | grep -q -- "--strict" || fail "run --help does not document --strict"
+"$bin" --version | grep -qx "freespace [0-9]*\.[0-9]*\.[0-9]*" || fail "--version: $("$bin" --version)"
 
 log="$data/carmen/intel-corrected.log"
 if [ ! -f "$log" ]; then

@@ -22,11 +22,11 @@
 namespace freespace::test {
 
 // Skips the calling test, with the reason, when the recorded log is not there.
-#define FREESPACE_REQUIRE_DATA(relative, path_var)                                  \
-  const std::string path_var = ::freespace::test::DataDir() + "/" + (relative);     \
-  if (::freespace::test::DataDir().empty() || !std::filesystem::exists(path_var)) { \
-    GTEST_SKIP() << "recorded data not found: " << (relative)                       \
-                 << " (set FREESPACE_DATA_DIR to the shared data folder)";          \
+#define FREESPACE_REQUIRE_DATA(relative, path_var)                                      \
+  const std::string path_var = ::freespace::test::DataDir() + "/" + (relative);         \
+  if (::freespace::test::DataDir().empty() || !std::filesystem::exists(path_var)) {     \
+    GTEST_SKIP() << "recorded data not found: " << (relative)                           \
+                 << " (tests/data, or set FREESPACE_DATA_DIR to a folder that has it)"; \
   }
 
 // The backends every kernel-stage test runs on.

@@ -15,6 +15,7 @@
 #include "engine_options.hpp"
 #include "eval/scorer.hpp"
 #include "freespace/freespace.hpp"
+#include "output_options.hpp"
 #include "output/render.hpp"
 #include "output/report.hpp"
 #include "quality_report.hpp"
@@ -37,6 +38,7 @@ struct DemoOptions {
   int video_every = 2;
   bool no_video = false;
   bool quiet = false;
+  std::string save_map;  // --save-map PREFIX
   EngineOptions engine;
   SeedOptions seeds;
 };
@@ -71,6 +73,7 @@ class DemoRun {
     PrintSetup();
     try {
       Drive();
+      SaveMapIfAsked(options_.save_map, estimator_->map(), "demo");
     } catch (const std::exception& e) {
       std::cerr << "\nfreespace demo: " << e.what() << "\n";
       return kExitSetup;
@@ -348,6 +351,7 @@ Command AddDemoCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_flag("--no-video", options->no_video, "Write no video");
   command->add_flag("--quiet", options->quiet, "No progress line");
+  AddSaveMapOption(command, &options->save_map);
   AddEngineOptions(command, &options->engine);
   AddSeedOptions(command, &options->seeds);
   return {command, [options] {

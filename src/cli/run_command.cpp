@@ -11,12 +11,14 @@
 #include <map>
 #include <memory>
 
+#include "bag_options.hpp"
 #include "commands.hpp"
 #include "engine_options.hpp"
 #include "eval/stage_stats.hpp"
 #include "freespace/freespace.hpp"
 #include "output/render.hpp"
 #include "output/report.hpp"
+#include "output_options.hpp"
 
 namespace freespace::cli {
 namespace {
@@ -29,6 +31,9 @@ struct RunOptions {
   long max_scans = 0;
   bool strict = false;
   bool quiet = false;
+  std::string save_map;  // --save-map PREFIX
+  std::string polygon_format = "jsonl";
+  BagCliOptions bag;  // ROS bag topics in, --out-bag
   EngineOptions engine;
 };
 
@@ -103,6 +108,8 @@ class LogRun {
     try {
       const int code = ProcessLog();
       if (code != kExitOk) return code;
+      SaveMapIfAsked(options_.save_map, estimator_->map(), "run");
+      bag_out_.Close();
     } catch (const std::exception& e) {
       std::cerr << "\nfreespace run: " << e.what() << "\n";
       return kExitSetup;
@@ -120,12 +127,14 @@ class LogRun {
     try {
       LogOptions log_options;
       log_options.format = ParseFormat(options_.format);
-      reader_ = OpenLog(options_.log, log_options);
+      reader_ = OpenInput(options_.log, log_options, options_.bag);
       config_ = LoadEngineConfig(options_.engine, &reader_->sensor());
       MakeDirectories(options_.out);
       estimator_ = std::make_unique<Estimator>(config_);
-      polygons_.open(options_.out + "/polygons.jsonl", std::ios::trunc);
-      if (!polygons_) throw InputError(options_.out + "/polygons.jsonl: cannot create");
+      const std::string polygons = options_.out + "/" + PolygonFileName(options_.polygon_format);
+      polygons_.open(polygons, std::ios::trunc);
+      if (!polygons_) throw InputError(polygons + ": cannot create");
+      bag_out_.Open(options_.bag);
     } catch (const std::exception& e) {
       std::cerr << "freespace run: " << e.what() << "\n";
       return false;
@@ -223,7 +232,8 @@ class LogRun {
   // A processed scan: counted, its polygon line written, a snapshot every --snapshot-every.
   void Keep(const Result& r) {
     tally_.AddProcessed(r);
-    polygons_ << PolygonJsonLine(r.scan_index, r) << '\n';
+    polygons_ << PolygonLine(options_.polygon_format, r) << '\n';
+    if (bag_out_.active()) bag_out_.Write(r, estimator_->map());
     if (options_.snapshot_every > 0 && (tally_.processed - 1) % options_.snapshot_every == 0) {
       Snapshot(r);
     }
@@ -292,14 +302,16 @@ class LogRun {
     std::ofstream(options_.out + "/summary.json") << summary.dump(2) << "\n";
     std::cerr << (tty_ ? "\r" : "") << "freespace run: " << t.processed << " scans processed, "
               << skipped << " skipped, median " << t.times.MedianTotal() / 1000.0
-              << " ms/scan; wrote " << options_.out << "/polygons.jsonl, summary.json and "
-              << t.snapshots << " PNG(s)\n";
+              << " ms/scan; wrote " << options_.out << "/"
+              << PolygonFileName(options_.polygon_format) << ", summary.json and " << t.snapshots
+              << " PNG(s)\n";
   }
 
   const RunOptions& options_;
   std::unique_ptr<LogReader> reader_;
   std::unique_ptr<Estimator> estimator_;
   std::ofstream polygons_;
+  BagOutput bag_out_;
   Config config_;
   Warnings warnings_;
   RunTally tally_;
@@ -314,11 +326,13 @@ Command AddRunCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "run",
       "Process a recorded log. Writes OUT/polygons.jsonl (one JSON object per processed scan:\n"
-      "scan, t, status, pose {x,y,yaw}, origin (world position of the map's cell (0,0) corner),\n"
-      "vehicle_cells, speed, polygon [[x,y],...] in world metres, at most N vertices),\n"
+      "scan, t_s, status, frame, pose {x,y,yaw}, origin (world position of the map's cell (0,0)\n"
+      "corner), vehicle_cells, speed_mps, polygon [[x,y],...]: a closed counter-clockwise ring in\n"
+      "world metres, at most N distinct vertices),\n"
       "OUT/summary.json (scans, skipped, rejected by reason, point counts, stage_us median and\n"
       "p99 per stage) and OUT/snapshot_<scan>.png every K scans and for the last scan.\n"
-      "Logs: CARMEN (FLASER, ROBOTLASER1), KITTI .bin frames, FREESPACE_LOG (docs/formats.md).\n"
+      "Logs: CARMEN (FLASER, ROBOTLASER1), KITTI .bin frames, FREESPACE_LOG (docs/formats.md),\n"
+      "ROS 1 bags (sensor_msgs/LaserScan + nav_msgs/Odometry or /tf).\n"
       "Without a `sensor` section in --config the sensor geometry comes from the log.");
   command->add_option("--log", options->log, "Log file to process")
       ->required()
@@ -336,6 +350,9 @@ Command AddRunCommand(CLI::App& app) {
   command->add_flag("--strict", options->strict,
                     "Stop with exit code 1 at the first bad input instead of skipping it");
   command->add_flag("--quiet", options->quiet, "No progress line");
+  AddSaveMapOption(command, &options->save_map);
+  AddPolygonFormatOption(command, &options->polygon_format);
+  AddBagOptions(command, &options->bag);
   AddEngineOptions(command, &options->engine);
   return {command, [options] { return LogRun(*options).Run(); }};
 }

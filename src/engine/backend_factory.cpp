@@ -1,9 +1,9 @@
 // The backend factory: the TBB host backend or the OpenCL backend, as configured; `auto` takes
-// OpenCL when a device is usable and says which it took.
+// OpenCL when a device is usable and says which it took through the log callback
+// (freespace/log.hpp).
 #include "engine/backend_factory.hpp"
 
-#include <iostream>
-
+#include "core/log.hpp"
 #include "freespace/errors.hpp"
 #include "host/host_backend.hpp"
 
@@ -39,13 +39,14 @@ std::unique_ptr<Backend> CreateBackend(const BackendConfig& backend, const Kerne
 #ifdef FREESPACE_WITH_OPENCL
       try {
         auto opencl = std::make_unique<OpenClBackend>(params, backend);
-        std::cerr << "freespace: backend auto: using " << opencl->name() << "\n";
+        Log(LogLevel::kInfo, "backend auto: using " + opencl->name());
         return opencl;
       } catch (const BackendError& e) {
-        std::cerr << "freespace: backend auto: OpenCL not usable (" << e.what() << "); using tbb\n";
+        Log(LogLevel::kWarning,
+            std::string("backend auto: OpenCL not usable (") + e.what() + "); using tbb");
       }
 #else
-      std::cerr << "freespace: backend auto: built without OpenCL; using tbb\n";
+      Log(LogLevel::kWarning, "backend auto: built without OpenCL; using tbb");
 #endif
       return std::make_unique<HostBackend>(params, backend.threads);
   }

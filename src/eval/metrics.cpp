@@ -79,7 +79,7 @@ void FillCentres(const Polygon& p, int width, int height, std::vector<std::uint8
 
 nlohmann::json ScanMetrics::ToJson() const {
   return {{"scan", scan},
-          {"t", t},
+          {"t_s", t},
           {"observed", observed},
           {"observed_occupied", observed_occupied},
           {"correct", correct},

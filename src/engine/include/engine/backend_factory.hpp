@@ -10,8 +10,8 @@
 namespace freespace {
 
 // Creates the configured backend. kAuto takes OpenCL when a device is found and TBB
-// otherwise, and says which on stderr. Throws BackendError when an explicitly requested
-// backend cannot run.
+// otherwise, and says which through the log callback (freespace/log.hpp). Throws BackendError
+// when an explicitly requested backend cannot run.
 std::unique_ptr<Backend> CreateBackend(const Config& config);
 // The same with explicit kernel parameters (tests and benchmarks of single stages).
 std::unique_ptr<Backend> CreateBackend(const BackendConfig& backend, const KernelParams& params);

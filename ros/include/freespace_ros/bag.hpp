@@ -1,0 +1,58 @@
+// ROS 1 bags in and out (the optional freespace_ros target, built when rosbag_storage and the
+// message headers are installed). In: sensor_msgs/LaserScan scans with the pose from
+// nav_msgs/Odometry or /tf, the sensor mount from /tf_static. Out: per scan the local map as a
+// nav_msgs/OccupancyGrid and the free-space polygon as a geometry_msgs/PolygonStamped.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "freespace/io.hpp"
+#include "freespace/result.hpp"
+
+namespace freespace::ros_bag {
+
+struct BagOptions {
+  std::string scan_topic;  // empty: the one sensor_msgs/LaserScan topic of the bag
+  std::string odom_topic;  // empty: the one nav_msgs/Odometry topic, or /tf without one
+  // The vehicle frame whose pose the scans need: empty takes Odometry's child_frame_id, or
+  // with /tf "base_link" (or the one child frame /tf moves, when there is one).
+  std::string base_frame;
+  // A scan farther than this from the nearest pose sample (before the first, after the last,
+  // or in a gap between two samples) is skipped and reported.
+  double max_pose_gap_s = 0.5;
+};
+
+// True when the file starts with the ROS 1 bag header "#ROSBAG V2.0".
+bool IsRosBag(const std::string& path);
+
+// Opens a bag as a scan log: one full scan per LaserScan message, its pose interpolated in time
+// between the two nearest pose samples (x, y linearly, yaw along the shorter way). Beams follow
+// REP 117: +inf or a range above range_max is a beam without echo; NaN, -inf and ranges below
+// range_min are passed on as invalid ranges (the estimator counts them). The sensor mount comes
+// from /tf_static (base frame to the scan's frame_id); without one the reader's sensor() has a
+// zero mount and says so in an issue. Throws InputError when the bag cannot be read or the
+// topics are ambiguous or missing (the message lists the bag's topics).
+std::unique_ptr<LogReader> OpenRosBag(const std::string& path, const BagOptions& options = {});
+
+// Writes per processed scan a nav_msgs/OccupancyGrid of the local map on `topic_prefix`/map and
+// a geometry_msgs/PolygonStamped (the closed counter-clockwise free-space polygon) on
+// `topic_prefix`/polygon, both stamped with the scan's time, in `frame_id`.
+class BagResultWriter {
+ public:
+  // Throws InputError when the bag cannot be created.
+  BagResultWriter(const std::string& path, const std::string& frame_id,
+                  const std::string& topic_prefix = "/freespace");
+  ~BagResultWriter();
+  BagResultWriter(const BagResultWriter&) = delete;
+  BagResultWriter& operator=(const BagResultWriter&) = delete;
+
+  void Write(const Result& result, const MapView& map);
+  void Close();
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace freespace::ros_bag

@@ -1,0 +1,49 @@
+// `--save-map PREFIX` (the map files of freespace/map_io.hpp) and `--polygon-format` from the
+// command line.
+#include "output_options.hpp"
+
+#include <filesystem>
+#include <iostream>
+
+#include "engine_options.hpp"
+#include "freespace/map_io.hpp"
+#include "output/polygon_text.hpp"
+#include "output/report.hpp"
+
+namespace freespace::cli {
+
+void AddSaveMapOption(CLI::App* command, std::string* prefix) {
+  command->add_option("--save-map", *prefix,
+                      "After the last scan, write the local map as PREFIX.pgm + PREFIX.yaml (a\n"
+                      "map_server map: trinary, occupied p > 0.65, free p < 0.196) and its raw\n"
+                      "log-odds as PREFIX.npy (int16, row 0 south); see docs/formats.md");
+}
+
+void SaveMapIfAsked(const std::string& prefix, const MapView& map, const std::string& command) {
+  if (prefix.empty()) return;
+  const std::filesystem::path parent = std::filesystem::path(prefix).parent_path();
+  if (!parent.empty()) MakeDirectories(parent.string());
+  const MapFiles files = SaveMap(map, prefix);
+  std::cerr << "freespace " << command << ": wrote the map " << map.width << " x " << map.height
+            << " at " << map.resolution_m << " m to " << files.yaml << ", " << files.pgm << " and "
+            << files.npy << "\n";
+}
+
+void AddPolygonFormatOption(CLI::App* command, std::string* format) {
+  command
+      ->add_option("--polygon-format", *format,
+                   "jsonl: OUT/polygons.jsonl; geojson: OUT/polygons.geojsonl instead, one\n"
+                   "GeoJSON Feature (RFC 7946 Polygon, world-frame metres) per scan a line")
+      ->check(CLI::IsMember({"jsonl", "geojson"}))
+      ->capture_default_str();
+}
+
+std::string PolygonFileName(const std::string& format) {
+  return format == "geojson" ? "polygons.geojsonl" : "polygons.jsonl";
+}
+
+std::string PolygonLine(const std::string& format, const Result& r) {
+  return format == "geojson" ? PolygonGeoJsonLine(r) : PolygonJsonLine(r.scan_index, r);
+}
+
+}  // namespace freespace::cli
