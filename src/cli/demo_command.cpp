@@ -17,6 +17,7 @@
 #include "freespace/freespace.hpp"
 #include "output/render.hpp"
 #include "output/report.hpp"
+#include "output/text_file.hpp"
 #include "quality_report.hpp"
 #include "seed_runs.hpp"
 #include "sim_options.hpp"
@@ -101,9 +102,8 @@ class DemoRun {
       const SensorConfig sensor = truth().scanner.EngineSensor();
       config_ = LoadEngineConfig(options_.engine, &sensor, RoadConfig());
       estimator_ = std::make_unique<Estimator>(config_);
-      std::ofstream(options_.out + "/config.yaml") << config_.ToYaml();
-      polygons_.open(options_.out + "/polygons.jsonl", std::ios::trunc);
-      if (!polygons_) throw InputError(options_.out + "/polygons.jsonl: cannot create");
+      WriteTextFile(options_.out + "/config.yaml", config_.ToYaml());
+      polygons_ = std::make_unique<TextFile>(options_.out + "/polygons.jsonl");
     } catch (const std::exception& e) {
       std::cerr << "freespace demo: " << e.what() << "\n";
       return false;
@@ -144,7 +144,7 @@ class DemoRun {
         continue;
       }
       times_.Add(r.times);
-      polygons_ << PolygonJsonLine(r.scan_index, r) << '\n';
+      polygons_->Write(PolygonJsonLine(r.scan_index, r) + '\n');
       const MapView map = estimator_->map();
       const Clock::time_point t2 = Clock::now();
       const ScanMetrics m = scorer_->Score(index, map, r);
@@ -157,8 +157,12 @@ class DemoRun {
       PrintProgress(index, t4);
     }
     if (!options_.quiet && tty_) std::fprintf(stderr, "\r%40s\r", "");
-    video_.release();
-    polygons_.close();
+    if (video_.isOpened()) {
+      // OpenCV's writer reports no write errors: the file must at least exist with data.
+      video_.release();
+      CheckWritten(options_.out + "/demo.avi");
+    }
+    polygons_->Close();
     writer_->Close(truth());
   }
 
@@ -200,7 +204,7 @@ class DemoRun {
       const double fps = 1.0 / (truth().scanner.scan_period_s * options_.video_every);
       video_.open(path, cv::CAP_OPENCV_MJPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), fps,
                   image.size());
-      if (!video_.isOpened()) throw InputError(path + ": cannot open a MJPG writer");
+      if (!video_.isOpened()) throw OutputError(path + ": cannot open a MJPG writer");
       video_.set(cv::VIDEOWRITER_PROP_QUALITY, 75);
     }
     video_.write(image);
@@ -254,8 +258,7 @@ class DemoRun {
                   "insight %.3f, polygon %.3f) | score %.2f | render + video %.2f per frame\n",
                   MedianMs(simulate_us_), ms("total"), ms("preprocess"), ms("align"),
                   ms("rasterize"), ms("fuse"), ms("classify"), ms("mask"), ms("insight"),
-                  ms("polygon"),
-                  MedianMs(score_us_), MedianMs(render_us_));
+                  ms("polygon"), MedianMs(score_us_), MedianMs(render_us_));
     std::cout << line;
   }
 
@@ -264,7 +267,7 @@ class DemoRun {
   std::unique_ptr<sim::SimulationWriter> writer_;
   std::unique_ptr<Estimator> estimator_;
   std::unique_ptr<sim::TruthScorer> scorer_;
-  std::ofstream polygons_;
+  std::unique_ptr<TextFile> polygons_;
   Config config_;
   MetricsSeries metrics_;
   StageSeries times_;

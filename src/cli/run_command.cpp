@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -17,6 +16,7 @@
 #include "freespace/freespace.hpp"
 #include "output/render.hpp"
 #include "output/report.hpp"
+#include "output/text_file.hpp"
 
 namespace freespace::cli {
 namespace {
@@ -61,12 +61,13 @@ using Clock = std::chrono::steady_clock;
 // What summary.json counts.
 struct RunTally {
   long scans_read = 0, processed = 0, no_update = 0, malformed = 0, resets = 0, jitter = 0;
+  long stalled = 0;  // scans used while the clock stalled
   long invalid_range = 0, out_of_aperture = 0, bad_layer = 0, clutter = 0, virtual_points = 0;
   long points = 0, max_vertices = 0, vehicle_outside = 0;
   double vertex_sum = 0;
   std::size_t snapshots = 0;
   std::map<std::string, long> rejected;  // by reason
-  StageSeries times;
+  StageHistogram times;                  // fixed memory however long the log
 
   void AddPoints(const ScanStats& st) {
     points += st.points;
@@ -103,12 +104,14 @@ class LogRun {
     try {
       const int code = ProcessLog();
       if (code != kExitOk) return code;
+      polygons_->Close();
+      WriteSummary();
     } catch (const std::exception& e) {
+      // A failed write (OutputError) or a backend failure: nothing more is claimed written.
       std::cerr << "\nfreespace run: " << e.what() << "\n";
       return kExitSetup;
     }
-    polygons_.close();
-    WriteSummary();
+    PrintClosing();
     return kExitOk;
   }
 
@@ -124,8 +127,7 @@ class LogRun {
       config_ = LoadEngineConfig(options_.engine, &reader_->sensor());
       MakeDirectories(options_.out);
       estimator_ = std::make_unique<Estimator>(config_);
-      polygons_.open(options_.out + "/polygons.jsonl", std::ios::trunc);
-      if (!polygons_) throw InputError(options_.out + "/polygons.jsonl: cannot create");
+      polygons_ = std::make_unique<TextFile>(options_.out + "/polygons.jsonl");
     } catch (const std::exception& e) {
       std::cerr << "freespace run: " << e.what() << "\n";
       return false;
@@ -208,6 +210,14 @@ class LogRun {
       warnings_.Print("no_sensor_update", at + ": " + r.message);
       if (scan.points.empty() && StopsHere("an empty scan")) return Verdict::kStop;
     }
+    if (r.clock_stalled) {
+      ++tally_.stalled;
+      // Said once per stall, not once per scan.
+      if (r.stall_detected) {
+        warnings_.Print("clock_stalled", at + ": " + r.message);
+        if (StopsHere("a stalled clock")) return Verdict::kStop;
+      }
+    }
     if (r.timestamp_jitter) {
       ++tally_.jitter;
       warnings_.Print("timestamp_jitter", at + ": " + r.message);
@@ -223,7 +233,7 @@ class LogRun {
   // A processed scan: counted, its polygon line written, a snapshot every --snapshot-every.
   void Keep(const Result& r) {
     tally_.AddProcessed(r);
-    polygons_ << PolygonJsonLine(r.scan_index, r) << '\n';
+    polygons_->Write(PolygonJsonLine(r.scan_index, r) + '\n');
     if (options_.snapshot_every > 0 && (tally_.processed - 1) % options_.snapshot_every == 0) {
       Snapshot(r);
     }
@@ -256,13 +266,13 @@ class LogRun {
     std::cerr << line << (tty_ ? "" : "\n") << std::flush;
   }
 
-  // summary.json, and the closing line on stderr.
-  void WriteSummary() const {
+  // summary.json; throws OutputError when it cannot be written in full.
+  void WriteSummary() {
     const RunTally& t = tally_;
     nlohmann::json rejected = nlohmann::json::object();
     for (const auto& [reason, n] : t.rejected) rejected[reason] = n;
     const long skipped = t.Rejected() + t.malformed;
-    const double seconds = std::chrono::duration<double>(Clock::now() - started_).count();
+    seconds_ = std::chrono::duration<double>(Clock::now() - started_).count();
     const nlohmann::json summary = {
         {"log", options_.log},
         {"backend", estimator_->backend_name()},
@@ -274,6 +284,7 @@ class LogRun {
         {"no_sensor_update", t.no_update},
         {"map_resets", t.resets},
         {"timestamp_jitter", t.jitter},
+        {"clock_stalled", t.stalled},
         {"points",
          {{"total", t.points},
           {"invalid_range", t.invalid_range},
@@ -286,10 +297,16 @@ class LogRun {
           {"mean_vertices", t.processed ? t.vertex_sum / t.processed : 0.0},
           {"vehicle_outside", t.vehicle_outside}}},
         {"snapshots", t.snapshots},
-        {"wall_s", seconds},
+        {"wall_s", seconds_},
         {"stage_us", t.times.Summary()},
     };
-    std::ofstream(options_.out + "/summary.json") << summary.dump(2) << "\n";
+    WriteTextFile(options_.out + "/summary.json", summary.dump(2) + "\n");
+  }
+
+  // The closing line on stderr, once everything is written.
+  void PrintClosing() const {
+    const RunTally& t = tally_;
+    const long skipped = t.Rejected() + t.malformed;
     std::cerr << (tty_ ? "\r" : "") << "freespace run: " << t.processed << " scans processed, "
               << skipped << " skipped, median " << t.times.MedianTotal() / 1000.0
               << " ms/scan; wrote " << options_.out << "/polygons.jsonl, summary.json and "
@@ -299,11 +316,12 @@ class LogRun {
   const RunOptions& options_;
   std::unique_ptr<LogReader> reader_;
   std::unique_ptr<Estimator> estimator_;
-  std::ofstream polygons_;
+  std::unique_ptr<TextFile> polygons_;
   Config config_;
   Warnings warnings_;
   RunTally tally_;
   bool tty_ = false;
+  double seconds_ = 0;
   Clock::time_point started_, last_progress_;
 };
 

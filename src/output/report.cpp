@@ -1,26 +1,59 @@
 // The polygons.jsonl line of a scan (docs/formats.md).
 #include "output/report.hpp"
 
+#include <cmath>
 #include <cstdio>
 
 namespace freespace {
+namespace {
+
+// Appends `v` with `decimals` fixed decimals, or `null` when it is not finite (JSON has no
+// NaN). The buffer holds any finite double in fixed notation (at most 309 integer digits), so
+// no number is ever cut.
+void AppendNumber(std::string* line, double v, int decimals) {
+  if (!std::isfinite(v)) {
+    *line += "null";
+    return;
+  }
+  char buffer[352];
+  const int n = std::snprintf(buffer, sizeof buffer, "%.*f", decimals, v);
+  line->append(buffer, std::size_t(n));
+}
+
+}  // namespace
 
 std::string PolygonJsonLine(std::uint64_t scan, const Result& r) {
   std::string line;
-  line.reserve(128 + 40 * r.polygon.size());
-  char buffer[256];
-  std::snprintf(buffer, sizeof buffer,
-                "{\"scan\":%llu,\"t\":%.6f,\"status\":\"%s\",\"pose\":{\"x\":%.6f,\"y\":%.6f,"
-                "\"yaw\":%.6f},\"origin\":[%.6f,%.6f],\"vehicle_cells\":[%.4f,%.4f],"
-                "\"speed\":%.3f,\"polygon_status\":\"%s\",\"polygon\":[",
-                static_cast<unsigned long long>(scan), r.timestamp_s, ToString(r.status), r.pose.x,
-                r.pose.y, r.pose.yaw, r.origin.x(), r.origin.y(), r.vehicle_cells.x(),
-                r.vehicle_cells.y(), r.filtered_speed_mps, ToString(r.polygon_status));
-  line += buffer;
+  line.reserve(200 + 24 * r.polygon.size());
+  line += "{\"scan\":" + std::to_string(scan) + ",\"t\":";
+  AppendNumber(&line, r.timestamp_s, 6);
+  line += ",\"status\":\"";
+  line += ToString(r.status);
+  line += "\",\"pose\":{\"x\":";
+  AppendNumber(&line, r.pose.x, 6);
+  line += ",\"y\":";
+  AppendNumber(&line, r.pose.y, 6);
+  line += ",\"yaw\":";
+  AppendNumber(&line, r.pose.yaw, 6);
+  line += "},\"origin\":[";
+  AppendNumber(&line, r.origin.x(), 6);
+  line += ',';
+  AppendNumber(&line, r.origin.y(), 6);
+  line += "],\"vehicle_cells\":[";
+  AppendNumber(&line, r.vehicle_cells.x(), 4);
+  line += ',';
+  AppendNumber(&line, r.vehicle_cells.y(), 4);
+  line += "],\"speed\":";
+  AppendNumber(&line, r.filtered_speed_mps, 3);
+  line += ",\"polygon_status\":\"";
+  line += ToString(r.polygon_status);
+  line += "\",\"polygon\":[";
   for (std::size_t i = 0; i < r.polygon.size(); ++i) {
-    std::snprintf(buffer, sizeof buffer, "%s[%.4f,%.4f]", i ? "," : "", r.polygon[i].x(),
-                  r.polygon[i].y());
-    line += buffer;
+    line += i ? ",[" : "[";
+    AppendNumber(&line, r.polygon[i].x(), 4);
+    line += ',';
+    AppendNumber(&line, r.polygon[i].y(), 4);
+    line += ']';
   }
   line += "]}";
   return line;

@@ -2,6 +2,7 @@
 // numbers with a message that names the field.
 #pragma once
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <string>
@@ -44,6 +45,28 @@ inline bool ParseInt(std::string_view field, long* value) {
   errno = 0;
   *value = std::strtol(buffer, &end, 10);
   return end == buffer + field.size() && errno != ERANGE;
+}
+
+// At most `max_bytes` of `text` for a message, printable: bytes outside printable ASCII become
+// \xNN, and a longer text ends in "... (N bytes)". A message never carries more than a few
+// hundred bytes of its input, however long the line or binary the file.
+inline std::string Excerpt(std::string_view text, std::size_t max_bytes = 40) {
+  static const char kHex[] = "0123456789abcdef";
+  std::string out;
+  const std::size_t n = std::min(text.size(), max_bytes);
+  out.reserve(n + 24);
+  for (std::size_t i = 0; i < n; ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += char(c);
+    } else {
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  if (text.size() > n) out += "... (" + std::to_string(text.size()) + " bytes)";
+  return out;
 }
 
 inline bool IsCommentOrBlank(std::string_view line) {
