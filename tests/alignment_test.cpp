@@ -332,5 +332,19 @@ TEST(Alignment, AClockThatStopsIsDetectedOnceAndPosesAreUsedWithoutAJumpTest) {
   EXPECT_EQ(a.Align(1.12, {60.0, 0, 0}).reason, RejectReason::kPoseJump);
 }
 
+// Found by tests/fuzz/fuzz_estimator: an interval of 1e-321 s gave an infinite speed.
+TEST(Alignment, TheFilteredSpeedStaysWithinMaxSpeed) {
+  Config config = CircleConfig();
+  config.alignment.max_speed_mps = 30.0;
+  CircleAligner a(config);
+  ASSERT_TRUE(a.Align(0.0, {0, 0, 0}).accepted);
+  ASSERT_TRUE(a.Align(1e-321, {0, 0, 0}).accepted);
+  const AlignStep s = a.Align(0.0, {5e-10, 0, 0});
+  ASSERT_TRUE(s.accepted);
+  EXPECT_TRUE(std::isfinite(s.filtered_speed_mps));
+  EXPECT_LE(std::abs(s.filtered_speed_mps), 30.0);
+  EXPECT_LE(s.radius_m, 0.5 * 200 * config.map.resolution_m);
+}
+
 }  // namespace
 }  // namespace freespace

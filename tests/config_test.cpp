@@ -118,6 +118,10 @@ TEST(Config, KeysThatAreNotPlainWordsAndRepeatedKeysAreConfigErrors) {
   EXPECT_EQ(ErrorOf("backend:\n  kind: {a: b}\n"),
             "test.yaml:2: backend.kind = '{a: b}': must be one of tbb | opencl | auto");
   EXPECT_EQ(ErrorOf("map: 3\n"), "test.yaml:1: 'map' must be a mapping of fields");
+  // yaml-cpp's own message can quote a raw byte of the input (found by tests/fuzz/fuzz_config).
+  const std::string raw = ErrorOf(std::string("map:\n \0\xfa {x: 0}\n  : 2\n", 22));
+  EXPECT_NE(raw.find("test.yaml:2: not valid YAML: "), std::string::npos) << raw;
+  for (const char c : raw) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << raw;
   // A value that contains itself through an alias is described, not printed forever.
   EXPECT_NE(ErrorOf("map:\n  width_cells: &a [*a]\n").find("test.yaml:2: map.width_cells = '"),
             std::string::npos);

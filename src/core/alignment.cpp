@@ -115,7 +115,12 @@ AlignStep CircleAligner::Align(double t, const Pose2D& sensor) {
     window_distance += distances_[i];
     window_time += intervals_[i];
   }
-  const double filtered = window_time > 0.0 ? window_distance / window_time : 0.0;
+  // No speed beyond max_speed_mps is believed (the jump test's rule): a window of a few
+  // denormal-small intervals would otherwise give an infinite speed.
+  const double filtered =
+      window_time > 0.0
+          ? std::clamp(window_distance / window_time, -config_.max_speed_mps, config_.max_speed_mps)
+          : 0.0;
 
   // P_c: on the circle, heading along the radius; behind the centre when moving forward.
   const double yaw = WrapAngle(sensor.yaw);  // eq. (2)

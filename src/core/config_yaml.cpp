@@ -177,7 +177,7 @@ Config Config::FromYaml(const std::string& yaml_text, const std::string& source)
     root = YAML::Load(yaml_text);
   } catch (const YAML::Exception& e) {
     throw ConfigError(source + ":" + std::to_string(e.mark.line + 1) +
-                      ": not valid YAML: " + e.msg);
+                      ": not valid YAML: " + io::Excerpt(e.msg, 200));
   }
   Config config;
   if (!root || root.IsNull()) return config;
