@@ -159,7 +159,9 @@ void VisitAlignment(C& a, Visitor& v) {
   v("gain_s", a.gain_s, {"s", AtLeast(0), "circle radius per m/s of filtered speed"});
   v("margin_m", a.margin_m, {"m", AtLeast(0), "the vehicle stays this far inside the map"});
   v("max_speed_mps", a.max_speed_mps,
-    {"m/s", Above(0), "a pose moving faster than this (plus jump_slack_m) is a jump"});
+    {"m/s", Above(0),
+     "a pose moving faster than this (plus jump_slack_m) is a jump; the filtered speed is "
+     "clamped to it"});
   v("jump_slack_m", a.jump_slack_m, {"m", AtLeast(0), "allowed extra displacement per scan"});
   v("reset_after_jumps", a.reset_after_jumps,
     {"scans", AtLeast(1), "jumps in a row after which the map restarts at the new pose"});
