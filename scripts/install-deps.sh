@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev libtbb-dev libopencv-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   libgtest-dev libbenchmark-dev
+  clang libclang-rt-dev
 )
 
 missing=()
