@@ -47,17 +47,20 @@ inline bool ParseInt(std::string_view field, long* value) {
   return end == buffer + field.size() && errno != ERANGE;
 }
 
-// At most `max_bytes` of `text` for a message, printable: bytes outside printable ASCII become
-// \xNN, and a longer text ends in "... (N bytes)". A message never carries more than a few
-// hundred bytes of its input, however long the line or binary the file.
+// A printable excerpt of `text` for a message, at most `max_bytes` long before its suffix:
+// bytes outside printable ASCII become \xNN (4 characters), and a text cut short ends in
+// "... (N bytes)". A message never carries more than a few hundred bytes of its input, however
+// long the line or binary the file.
 inline std::string Excerpt(std::string_view text, std::size_t max_bytes = 40) {
   static const char kHex[] = "0123456789abcdef";
   std::string out;
-  const std::size_t n = std::min(text.size(), max_bytes);
-  out.reserve(n + 24);
-  for (std::size_t i = 0; i < n; ++i) {
+  out.reserve(max_bytes + 24);
+  std::size_t i = 0;
+  for (; i < text.size(); ++i) {
     const unsigned char c = static_cast<unsigned char>(text[i]);
-    if (c >= 0x20 && c < 0x7f) {
+    const bool printable = c >= 0x20 && c < 0x7f;
+    if (out.size() + (printable ? 1 : 4) > max_bytes) break;
+    if (printable) {
       out += char(c);
     } else {
       out += "\\x";
@@ -65,7 +68,7 @@ inline std::string Excerpt(std::string_view text, std::size_t max_bytes = 40) {
       out += kHex[c & 15];
     }
   }
-  if (text.size() > n) out += "... (" + std::to_string(text.size()) + " bytes)";
+  if (i < text.size()) out += "... (" + std::to_string(text.size()) + " bytes)";
   return out;
 }
 
