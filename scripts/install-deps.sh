@@ -13,6 +13,7 @@ packages=(
   # ROS 1 bags in and out (the optional freespace_ros target, ros/)
   librosbag-storage-dev libroscpp-core-dev libstd-msgs-dev libsensor-msgs-dev libnav-msgs-dev
   libgeometry-msgs-dev libtf2-msgs-dev
+  clang libclang-rt-dev
 )
 
 missing=()

@@ -281,5 +281,70 @@ TEST(Alignment, CircleMapEqualsTheWorldFixedReferenceAndRotateDoesNot) {
   EXPECT_GT(double(rotated_mismatch) / double(rotated_compared), 0.01);
 }
 
+TEST(Alignment, RejectsAShiftNoIntegerHoldsAndChangesNothing) {
+  Config config = CircleConfig();
+  config.map.resolution_m = 1e-9;  // a pose 1e8 m away is 1e17 cells: more than 2^52
+  CircleAligner a(config);
+  ASSERT_TRUE(a.Align(1.0, {0, 0, 0}).accepted);
+  ASSERT_TRUE(a.Align(1.04, {1e-8, 0, 0}).accepted);
+  const Vec2 origin = a.origin_world();
+  const std::int64_t origin_x = a.origin_x();
+  for (const Pose2D far : {Pose2D{1e8, 0, 0}, Pose2D{0, -1e8, 0}, Pose2D{1e300, 1e300, 0}}) {
+    const AlignStep s = a.Align(1e9, far);
+    EXPECT_FALSE(s.accepted);
+    EXPECT_EQ(s.reason, RejectReason::kPoseOutOfRange);
+    EXPECT_EQ(a.origin_world(), origin);
+    EXPECT_EQ(a.origin_x(), origin_x);
+    EXPECT_EQ(a.consecutive_jumps(), 0);
+  }
+  // Near enough, the next scan is used as before.
+  EXPECT_TRUE(a.Align(1.08, {2e-8, 0, 0}).accepted);
+}
+
+TEST(Alignment, AClockThatStopsIsDetectedOnceAndPosesAreUsedWithoutAJumpTest) {
+  Config config = CircleConfig();
+  config.alignment.jump_slack_m = 1.0;
+  CircleAligner a(config);
+  ASSERT_TRUE(a.Align(1.0, {0, 0, 0}).accepted);
+  ASSERT_TRUE(a.Align(1.04, {0.4, 0, 0}).accepted);
+  // Two scans with the time of the one before: jitter, then the stall.
+  const AlignStep second = a.Align(1.04, {0.8, 0, 0});
+  EXPECT_TRUE(second.accepted);
+  EXPECT_TRUE(second.timestamp_jitter);
+  EXPECT_FALSE(second.clock_stalled);
+  const AlignStep third = a.Align(1.04, {1.2, 0, 0});
+  EXPECT_TRUE(third.accepted);
+  EXPECT_TRUE(third.clock_stalled);
+  EXPECT_TRUE(third.stall_detected);
+  EXPECT_FALSE(third.timestamp_jitter);
+  // While stalled, a move far beyond jump_slack_m is used, said no more, and gives no speed.
+  const AlignStep far = a.Align(1.04, {6.2, 0, 0});
+  EXPECT_TRUE(far.accepted);
+  EXPECT_TRUE(far.clock_stalled);
+  EXPECT_FALSE(far.stall_detected);
+  EXPECT_DOUBLE_EQ(far.speed_mps, 0.0);
+  EXPECT_EQ(a.consecutive_jumps(), 0);
+  // The clock advances: the stall ends, speeds and the jump test come back.
+  const AlignStep moving = a.Align(1.08, {6.6, 0, 0});
+  EXPECT_TRUE(moving.accepted);
+  EXPECT_FALSE(moving.clock_stalled);
+  EXPECT_NEAR(moving.speed_mps, 10.0, 1e-9);
+  EXPECT_EQ(a.Align(1.12, {60.0, 0, 0}).reason, RejectReason::kPoseJump);
+}
+
+// Found by tests/fuzz/fuzz_estimator: an interval of 1e-321 s gave an infinite speed.
+TEST(Alignment, TheFilteredSpeedStaysWithinMaxSpeed) {
+  Config config = CircleConfig();
+  config.alignment.max_speed_mps = 30.0;
+  CircleAligner a(config);
+  ASSERT_TRUE(a.Align(0.0, {0, 0, 0}).accepted);
+  ASSERT_TRUE(a.Align(1e-321, {0, 0, 0}).accepted);
+  const AlignStep s = a.Align(0.0, {5e-10, 0, 0});
+  ASSERT_TRUE(s.accepted);
+  EXPECT_TRUE(std::isfinite(s.filtered_speed_mps));
+  EXPECT_LE(std::abs(s.filtered_speed_mps), 30.0);
+  EXPECT_LE(s.radius_m, 0.5 * 200 * config.map.resolution_m);
+}
+
 }  // namespace
 }  // namespace freespace

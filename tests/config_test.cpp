@@ -95,11 +95,53 @@ TEST(Config, ErrorsNameTheFieldAndTheValue) {
             std::string::npos);
   EXPECT_NE(ErrorOf("polygon:\n  max_vertices: 2\n").find("polygon.max_vertices = 2"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("map: [1, 2\n").find("test.yaml: line"), std::string::npos);
+  EXPECT_NE(ErrorOf("map: [1, 2\n").find("test.yaml:2: not valid YAML"), std::string::npos);
   EXPECT_NE(ErrorOf("alignment:\n  margin_m: 40\n").find("alignment.margin_m = 40"),
             std::string::npos);
   EXPECT_NE(ErrorOf("sensor:\n  max_range_m: .nan\n").find("sensor.max_range_m = nan"),
             std::string::npos);
+}
+
+// Every malformed shape of YAML is a ConfigError naming the file, the line and the field (a
+// YAML exception escaping would fail these tests), quoting a short printable excerpt.
+TEST(Config, KeysThatAreNotPlainWordsAndRepeatedKeysAreConfigErrors) {
+  EXPECT_EQ(ErrorOf("? [a, b]\n: 1\n"),
+            "test.yaml:1: a section name must be a plain word, not '[a, b]'");
+  EXPECT_EQ(ErrorOf("map:\n  ? {x: 1}\n  : 2\n"),
+            "test.yaml:2: a field name must be a plain word, not '{x: 1}'");
+  EXPECT_EQ(ErrorOf("map:\n  width_cells: 100\nsensor:\n  layers: 2\nmap:\n  height_cells: 50\n"),
+            "test.yaml:5: section 'map' appears twice (first on line 1): merge the two");
+  EXPECT_EQ(ErrorOf("map:\n  width_cells: 100\n  width_cells: 200\n"),
+            "test.yaml:3: field 'map.width_cells' appears twice (first on line 2)");
+  EXPECT_EQ(ErrorOf("map:\n  width_cells: [1, 2]\n"),
+            "test.yaml:2: map.width_cells = '[1, 2]': not a valid integer");
+  EXPECT_EQ(ErrorOf("backend:\n  kind: {a: b}\n"),
+            "test.yaml:2: backend.kind = '{a: b}': must be one of tbb | opencl | auto");
+  EXPECT_EQ(ErrorOf("map: 3\n"), "test.yaml:1: 'map' must be a mapping of fields");
+  // yaml-cpp's own message can quote a raw byte of the input (found by tests/fuzz/fuzz_config).
+  const std::string raw = ErrorOf(std::string("map:\n \0\xfa {x: 0}\n  : 2\n", 22));
+  EXPECT_NE(raw.find("test.yaml:2: not valid YAML: "), std::string::npos) << raw;
+  for (const char c : raw) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << raw;
+  // A value that contains itself through an alias is described, not printed forever.
+  EXPECT_NE(ErrorOf("map:\n  width_cells: &a [*a]\n").find("test.yaml:2: map.width_cells = '"),
+            std::string::npos);
+  // A long or binary value is quoted as a bounded, printable excerpt.
+  const std::string long_value = "map:\n  width_cells: " + std::string(100000, '9') + "x\n";
+  const std::string error = ErrorOf(long_value);
+  EXPECT_LT(error.size(), 200u) << error.substr(0, 300);
+  EXPECT_NE(error.find("... (100001 bytes)"), std::string::npos) << error;
+  const std::string binary = ErrorOf("map:\n  width_cells: \"\\x01\\x7f\"\n");
+  EXPECT_NE(binary.find("'\\x01\\x7f'"), std::string::npos) << binary;
+}
+
+TEST(Config, StringsWithQuotesAndControlCharactersRoundTrip) {
+  Config c;
+  c.backend.opencl_device = "a\"b\\c\nd\te";
+  c.backend.opencl_platform = "Portable: {x} #1";
+  const Config back = Config::FromYaml(c.ToYaml(), "written.yaml");
+  EXPECT_EQ(back.backend.opencl_device, c.backend.opencl_device);
+  EXPECT_EQ(back.backend.opencl_platform, c.backend.opencl_platform);
+  EXPECT_EQ(back.ToYaml(), c.ToYaml());
 }
 
 TEST(Config, PolygonMarginIsValidatedAndKept) {

@@ -154,6 +154,14 @@ TEST_P(EstimatorTest, BadScansAreRejectedWithAMessageAndChangeNothing) {
   Scan jump = WallScan(1.1);
   jump.pose.x = 400.0;  // hundreds of metres in 0.1 s
   cases.push_back({jump, RejectReason::kPoseJump, "jumped 400.0 m"});
+  // Finite but extreme values, which used to give NaN positions and undefined casts.
+  cases.push_back({WallScan(1e307), RejectReason::kTimestampOutOfRange, "out of range"});
+  cases.push_back({WallScan(-2e10), RejectReason::kTimestampOutOfRange, "out of range"});
+  Scan far = WallScan(1.1);
+  far.pose.x = 1e300;
+  cases.push_back({far, RejectReason::kPoseOutOfRange, "(1e+300, 0) m is out of range"});
+  far.pose = {0.0, -1.5e8, 0.0};
+  cases.push_back({far, RejectReason::kPoseOutOfRange, "out of range"});
   for (const Case& c : cases) {
     const Result& r = estimator->Process(c.scan);
     EXPECT_EQ(r.status, ScanStatus::kRejected);
@@ -368,7 +376,6 @@ TEST_P(EstimatorTest, IntelLabInsidePolygonMarginKeepsOffOccupiedCells) {
   EXPECT_LT(boxed_in, 10);
   EXPECT_GT(containing + boxed_in, 900);
 }
-
 
 // A wall 3.6 m ahead, and with `car` a car's rear face 1.4 m ahead across -10 .. 10 deg.
 Scan StreetScan(double t, bool car) {

@@ -133,7 +133,7 @@ TEST(MapIo, BadThresholdsAndUnwritablePathsThrow) {
   MapFileOptions bad;
   bad.free_thresh = 0.7;
   EXPECT_THROW(SaveMap(m.View(), ::testing::TempDir() + "/x", bad), std::invalid_argument);
-  EXPECT_THROW(SaveMap(m.View(), "/nonexistent-dir/for/sure/map"), InputError);
+  EXPECT_THROW(SaveMap(m.View(), "/nonexistent-dir/for/sure/map"), OutputError);
 }
 
 }  // namespace

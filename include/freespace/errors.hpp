@@ -19,6 +19,13 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// An output file could not be created or written in full (a full disk, a directory where the
+// file should go). The message names the file and the system's reason.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // The requested compute backend cannot run here (no OpenCL platform, a kernel that failed to
 // build). The message names what was found, or carries the build log.
 class BackendError : public std::runtime_error {

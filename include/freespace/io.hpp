@@ -76,7 +76,8 @@ const char* ToString(LogFormat format);
 // Writes the project's own multi-layer log format (docs/formats.md).
 class NativeLogWriter {
  public:
-  // Throws InputError when the file cannot be created.
+  // Throws OutputError when the file cannot be created; Write and Close throw it when a write
+  // fails.
   NativeLogWriter(const std::string& path, const SensorConfig& sensor);
   void Write(const Scan& scan);
   void Close();

@@ -22,7 +22,9 @@ enum class RejectReason {
   kTimestampNotFinite,
   kTimestampNotIncreasing,  // before the previous accepted scan by more than time_jitter_s
   kPoseNotFinite,
-  kPoseJump,  // moved farther than max_speed_mps * dt + jump_slack_m since the last scan
+  kTimestampOutOfRange,  // |t| > kMaxTimestampS (freespace/scan.hpp)
+  kPoseOutOfRange,       // |x| or |y| > kMaxCoordinateM, or a map shift no integer can hold
+  kPoseJump,             // moved farther than max_speed_mps * dt + jump_slack_m since the last scan
 };
 
 // What became of the free-space polygon of a scan.
@@ -70,6 +72,9 @@ struct Result {
   bool map_reset = false;         // the map was (re)started at this scan (first scan, or a jump)
   bool timestamp_jitter = false;  // timestamp not after the previous scan's, but within
                                   // alignment.time_jitter_s: used without a speed sample
+  bool clock_stalled = false;     // the timestamps have stopped advancing (3 scans or more with
+                                  // one time): used without a jump test or a speed sample
+  bool stall_detected = false;    // this scan found the stall; `message` says so
 
   Pose2D pose;           // the vehicle pose given with the scan
   Pose2D sensor_pose;    // the sensor's world pose (pose composed with the mount)

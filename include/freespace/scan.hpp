@@ -21,9 +21,18 @@ struct ScanPoint {
 // world coordinates at that time. The sensor pose is this pose composed with the configured
 // mount offset (sensor.mount_*).
 struct Scan {
-  double timestamp_s = 0.0;
-  Pose2D pose;
+  double timestamp_s = 0.0;  // |t| <= kMaxTimestampS, else the scan is rejected
+  Pose2D pose;               // |x|, |y| <= kMaxCoordinateM, else the scan is rejected
   std::vector<ScanPoint> points;
 };
+
+// The largest timestamp magnitude the estimator takes (s): Unix time in seconds until the
+// year 2286. Larger values are almost always another unit (milli- or nanoseconds), and past
+// about 1e12 s a double no longer resolves a scan period to the microsecond.
+inline constexpr double kMaxTimestampS = 1e10;
+// The largest world coordinate magnitude the estimator takes (m): 100,000 km, beyond any
+// Earth-fixed frame (UTM northings, ECEF) yet small enough that a double resolves it to 15 nm
+// and the map's origin stays an exact integer count of cells.
+inline constexpr double kMaxCoordinateM = 1e8;
 
 }  // namespace freespace

@@ -1,8 +1,11 @@
 // Conversions between the engine's values and Python objects: see convert.hpp.
 #include "convert.hpp"
 
+#include "freespace/errors.hpp"
+
 #include <yaml-cpp/yaml.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -105,9 +108,23 @@ Config WithOverrides(const Config& config, const py::dict& overrides, const std:
   }
   YAML::Emitter out;
   out << root;
-  Config c = Config::FromYaml(out.c_str(), source);
-  c.Validate();
-  return c;
+  try {
+    Config c = Config::FromYaml(out.c_str(), source);
+    c.Validate();
+    return c;
+  } catch (const ConfigError& e) {
+    // The line numbers are those of the YAML made from the dict, which the caller never saw.
+    std::string message = e.what();
+    const std::string prefix = source + ":";
+    if (message.compare(0, prefix.size(), prefix) == 0) {
+      std::size_t end = prefix.size();
+      while (end < message.size() && std::isdigit(static_cast<unsigned char>(message[end]))) ++end;
+      if (end > prefix.size() && end < message.size() && message[end] == ':') {
+        message = source + message.substr(end);  // "dict:48: x" -> "dict: x"
+      }
+    }
+    throw ConfigError(message);
+  }
 }
 
 py::dict ConfigToDict(const Config& config) {

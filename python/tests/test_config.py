@@ -54,7 +54,7 @@ class ConfigTest(unittest.TestCase):
             fs.Config.from_yaml("nothing:\n  x: 1\n")
         with self.assertRaisesRegex(fs.ConfigError, r"sensor_model\.kind"):
             fs.Config.from_dict({"sensor_model.kind": "magic"})
-        with self.assertRaisesRegex(fs.ConfigError, r"yaml: line \d+: not valid YAML"):
+        with self.assertRaisesRegex(fs.ConfigError, r"yaml:\d+: not valid YAML"):
             fs.Config.from_yaml("map:\n  width_cells: [1\n")
         with self.assertRaisesRegex(fs.ConfigError, r"cannot open '/no/such/file.yaml'"):
             fs.Config.from_yaml_file("/no/such/file.yaml")

@@ -18,6 +18,7 @@
 #include "output_options.hpp"
 #include "output/render.hpp"
 #include "output/report.hpp"
+#include "output/text_file.hpp"
 #include "quality_report.hpp"
 #include "seed_runs.hpp"
 #include "sim_options.hpp"
@@ -104,9 +105,8 @@ class DemoRun {
       const SensorConfig sensor = truth().scanner.EngineSensor();
       config_ = LoadEngineConfig(options_.engine, &sensor, RoadConfig());
       estimator_ = std::make_unique<Estimator>(config_);
-      std::ofstream(options_.out + "/config.yaml") << config_.ToYaml();
-      polygons_.open(options_.out + "/polygons.jsonl", std::ios::trunc);
-      if (!polygons_) throw InputError(options_.out + "/polygons.jsonl: cannot create");
+      WriteTextFile(options_.out + "/config.yaml", config_.ToYaml());
+      polygons_ = std::make_unique<TextFile>(options_.out + "/polygons.jsonl");
     } catch (const std::exception& e) {
       std::cerr << "freespace demo: " << e.what() << "\n";
       return false;
@@ -147,7 +147,7 @@ class DemoRun {
         continue;
       }
       times_.Add(r.times);
-      polygons_ << PolygonJsonLine(r.scan_index, r) << '\n';
+      polygons_->Write(PolygonJsonLine(r.scan_index, r) + '\n');
       const MapView map = estimator_->map();
       const Clock::time_point t2 = Clock::now();
       const ScanMetrics m = scorer_->Score(index, map, r);
@@ -160,8 +160,12 @@ class DemoRun {
       PrintProgress(index, t4);
     }
     if (!options_.quiet && tty_) std::fprintf(stderr, "\r%40s\r", "");
-    video_.release();
-    polygons_.close();
+    if (video_.isOpened()) {
+      // OpenCV's writer reports no write errors: the file must at least exist with data.
+      video_.release();
+      CheckWritten(options_.out + "/demo.avi");
+    }
+    polygons_->Close();
     writer_->Close(truth());
   }
 
@@ -203,7 +207,7 @@ class DemoRun {
       const double fps = 1.0 / (truth().scanner.scan_period_s * options_.video_every);
       video_.open(path, cv::CAP_OPENCV_MJPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), fps,
                   image.size());
-      if (!video_.isOpened()) throw InputError(path + ": cannot open a MJPG writer");
+      if (!video_.isOpened()) throw OutputError(path + ": cannot open a MJPG writer");
       video_.set(cv::VIDEOWRITER_PROP_QUALITY, 75);
     }
     video_.write(image);
@@ -266,7 +270,7 @@ class DemoRun {
   std::unique_ptr<sim::SimulationWriter> writer_;
   std::unique_ptr<Estimator> estimator_;
   std::unique_ptr<sim::TruthScorer> scorer_;
-  std::ofstream polygons_;
+  std::unique_ptr<TextFile> polygons_;
   Config config_;
   MetricsSeries metrics_;
   StageSeries times_;

@@ -71,7 +71,7 @@ bool ConfigSetsSensor(const EngineOptions& options) {
 void MakeDirectories(const std::string& dir) {
   std::error_code error;
   std::filesystem::create_directories(dir, error);
-  if (error) throw InputError(dir + ": cannot create directory: " + error.message());
+  if (error) throw OutputError(dir + ": cannot create directory: " + error.message());
 }
 
 }  // namespace freespace::cli

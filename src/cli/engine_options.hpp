@@ -32,7 +32,7 @@ Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_se
 // ConfigError when it cannot be read.
 bool ConfigSetsSensor(const EngineOptions& options);
 
-// Creates `dir` (and parents); throws InputError when it cannot.
+// Creates `dir` (and parents); throws OutputError when it cannot.
 void MakeDirectories(const std::string& dir);
 
 }  // namespace freespace::cli

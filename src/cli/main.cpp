@@ -35,7 +35,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // CLI11 prints the help or the error; its own codes (105 for a failed check, ...) are
+    // mapped onto the documented ones: a usage error is 2.
+    return app.exit(e) == 0 ? freespace::cli::kExitOk : freespace::cli::kExitSetup;
   }
   for (auto& command : commands) {
     if (command.app->parsed()) return command.run();

@@ -2,9 +2,8 @@
 #include "quality_report.hpp"
 
 #include <cstdio>
-#include <fstream>
 
-#include "freespace/errors.hpp"
+#include "output/text_file.hpp"
 
 namespace freespace::cli {
 namespace {
@@ -74,11 +73,7 @@ void PrintQuality(std::ostream& out, const nlohmann::json& s) {
 }
 
 void WriteJson(const std::string& path, const nlohmann::json& doc) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError(path + ": cannot create");
-  out << doc.dump(1) << "\n";
-  out.close();
-  if (out.fail()) throw InputError(path + ": write failed");
+  WriteTextFile(path, doc.dump(1) + "\n");
 }
 
 }  // namespace freespace::cli

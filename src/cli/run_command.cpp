@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -18,6 +17,7 @@
 #include "freespace/freespace.hpp"
 #include "output/render.hpp"
 #include "output/report.hpp"
+#include "output/text_file.hpp"
 #include "output_options.hpp"
 
 namespace freespace::cli {
@@ -66,12 +66,13 @@ using Clock = std::chrono::steady_clock;
 // What summary.json counts.
 struct RunTally {
   long scans_read = 0, processed = 0, no_update = 0, malformed = 0, resets = 0, jitter = 0;
+  long stalled = 0;  // scans used while the clock stalled
   long invalid_range = 0, out_of_aperture = 0, bad_layer = 0, clutter = 0, virtual_points = 0;
   long points = 0, max_vertices = 0, vehicle_outside = 0;
   double vertex_sum = 0;
   std::size_t snapshots = 0;
   std::map<std::string, long> rejected;  // by reason
-  StageSeries times;
+  StageHistogram times;                  // fixed memory however long the log
 
   void AddPoints(const ScanStats& st) {
     points += st.points;
@@ -108,14 +109,16 @@ class LogRun {
     try {
       const int code = ProcessLog();
       if (code != kExitOk) return code;
-      SaveMapIfAsked(options_.save_map, estimator_->map(), "run");
+      polygons_->Close();
       bag_out_.Close();
+      SaveMapIfAsked(options_.save_map, estimator_->map(), "run");
+      WriteSummary();
     } catch (const std::exception& e) {
+      // A failed write (OutputError) or a backend failure: nothing more is claimed written.
       std::cerr << "\nfreespace run: " << e.what() << "\n";
       return kExitSetup;
     }
-    polygons_.close();
-    WriteSummary();
+    PrintClosing();
     return kExitOk;
   }
 
@@ -131,9 +134,8 @@ class LogRun {
       config_ = LoadEngineConfig(options_.engine, &reader_->sensor());
       MakeDirectories(options_.out);
       estimator_ = std::make_unique<Estimator>(config_);
-      const std::string polygons = options_.out + "/" + PolygonFileName(options_.polygon_format);
-      polygons_.open(polygons, std::ios::trunc);
-      if (!polygons_) throw InputError(polygons + ": cannot create");
+      polygons_ =
+          std::make_unique<TextFile>(options_.out + "/" + PolygonFileName(options_.polygon_format));
       bag_out_.Open(options_.bag);
     } catch (const std::exception& e) {
       std::cerr << "freespace run: " << e.what() << "\n";
@@ -217,6 +219,14 @@ class LogRun {
       warnings_.Print("no_sensor_update", at + ": " + r.message);
       if (scan.points.empty() && StopsHere("an empty scan")) return Verdict::kStop;
     }
+    if (r.clock_stalled) {
+      ++tally_.stalled;
+      // Said once per stall, not once per scan.
+      if (r.stall_detected) {
+        warnings_.Print("clock_stalled", at + ": " + r.message);
+        if (StopsHere("a stalled clock")) return Verdict::kStop;
+      }
+    }
     if (r.timestamp_jitter) {
       ++tally_.jitter;
       warnings_.Print("timestamp_jitter", at + ": " + r.message);
@@ -232,7 +242,7 @@ class LogRun {
   // A processed scan: counted, its polygon line written, a snapshot every --snapshot-every.
   void Keep(const Result& r) {
     tally_.AddProcessed(r);
-    polygons_ << PolygonLine(options_.polygon_format, r) << '\n';
+    polygons_->Write(PolygonLine(options_.polygon_format, r) + '\n');
     if (bag_out_.active()) bag_out_.Write(r, estimator_->map());
     if (options_.snapshot_every > 0 && (tally_.processed - 1) % options_.snapshot_every == 0) {
       Snapshot(r);
@@ -266,13 +276,13 @@ class LogRun {
     std::cerr << line << (tty_ ? "" : "\n") << std::flush;
   }
 
-  // summary.json, and the closing line on stderr.
-  void WriteSummary() const {
+  // summary.json; throws OutputError when it cannot be written in full.
+  void WriteSummary() {
     const RunTally& t = tally_;
     nlohmann::json rejected = nlohmann::json::object();
     for (const auto& [reason, n] : t.rejected) rejected[reason] = n;
     const long skipped = t.Rejected() + t.malformed;
-    const double seconds = std::chrono::duration<double>(Clock::now() - started_).count();
+    seconds_ = std::chrono::duration<double>(Clock::now() - started_).count();
     const nlohmann::json summary = {
         {"log", options_.log},
         {"backend", estimator_->backend_name()},
@@ -284,6 +294,7 @@ class LogRun {
         {"no_sensor_update", t.no_update},
         {"map_resets", t.resets},
         {"timestamp_jitter", t.jitter},
+        {"clock_stalled", t.stalled},
         {"points",
          {{"total", t.points},
           {"invalid_range", t.invalid_range},
@@ -296,10 +307,16 @@ class LogRun {
           {"mean_vertices", t.processed ? t.vertex_sum / t.processed : 0.0},
           {"vehicle_outside", t.vehicle_outside}}},
         {"snapshots", t.snapshots},
-        {"wall_s", seconds},
+        {"wall_s", seconds_},
         {"stage_us", t.times.Summary()},
     };
-    std::ofstream(options_.out + "/summary.json") << summary.dump(2) << "\n";
+    WriteTextFile(options_.out + "/summary.json", summary.dump(2) + "\n");
+  }
+
+  // The closing line on stderr, once everything is written.
+  void PrintClosing() const {
+    const RunTally& t = tally_;
+    const long skipped = t.Rejected() + t.malformed;
     std::cerr << (tty_ ? "\r" : "") << "freespace run: " << t.processed << " scans processed, "
               << skipped << " skipped, median " << t.times.MedianTotal() / 1000.0
               << " ms/scan; wrote " << options_.out << "/"
@@ -310,12 +327,13 @@ class LogRun {
   const RunOptions& options_;
   std::unique_ptr<LogReader> reader_;
   std::unique_ptr<Estimator> estimator_;
-  std::ofstream polygons_;
+  std::unique_ptr<TextFile> polygons_;
   BagOutput bag_out_;
   Config config_;
   Warnings warnings_;
   RunTally tally_;
   bool tty_ = false;
+  double seconds_ = 0;
   Clock::time_point started_, last_progress_;
 };
 

@@ -48,6 +48,7 @@ void CircleAligner::Start(double t, const Pose2D& sensor, AlignStep* step) {
   std::fill(intervals_.begin(), intervals_.end(), 0.0);
   speed_count_ = speed_next_ = 0;
   jumps_ = 0;
+  repeats_ = 0;
   step->accepted = true;
   step->reset = true;
   step->local = centre_;
@@ -63,14 +64,29 @@ AlignStep CircleAligner::Align(double t, const Pose2D& sensor) {
     return step;
   }
   const double dt = t - last_t_;
-  const bool jitter = !(dt > 0.0);
-  if (jitter && !(-dt <= config_.time_jitter_s)) {
+  // A clock that repeats one time for kStalledClockScans scans has stalled: without time, the
+  // jump test (a speed limit) and the speed (eq. 1) cannot be judged, so the odometry is taken
+  // as it comes, at speed 0, until the clock advances again (docs/behaviour.md).
+  repeats_ = dt == 0.0 ? repeats_ + 1 : 0;
+  const bool stalled = repeats_ >= kStalledClockScans - 1;
+  const bool jitter = !(dt > 0.0) && !stalled;
+  if (!(dt > 0.0) && !(-dt <= config_.time_jitter_s)) {
     step.reason = RejectReason::kTimestampNotIncreasing;
+    return step;
+  }
+  // The pose in cells from the anchor must stay below 2^52, where every integer is a double:
+  // the origin (within a map of it) then stays exact and the casts below defined. Beyond (a
+  // pose far away at a tiny resolution, an overflow to infinity) the scan is rejected before
+  // anything changes.
+  constexpr double kMaxCells = 4503599627370496.0;  // 2^52
+  const Vec2 cells = (Vec2(sensor.x, sensor.y) - anchor_) / resolution_;
+  if (!(std::abs(cells.x()) <= kMaxCells && std::abs(cells.y()) <= kMaxCells)) {
+    step.reason = RejectReason::kPoseOutOfRange;
     return step;
   }
   const Vec2 d(sensor.x - last_.x, sensor.y - last_.y);
   const double distance = d.norm();
-  if (!(distance <= config_.max_speed_mps * std::max(dt, 0.0) + config_.jump_slack_m)) {
+  if (!stalled && !(distance <= config_.max_speed_mps * std::max(dt, 0.0) + config_.jump_slack_m)) {
     if (++jumps_ < config_.reset_after_jumps) {
       step.reason = RejectReason::kPoseJump;
       return step;
@@ -88,9 +104,10 @@ AlignStep CircleAligner::Align(double t, const Pose2D& sensor) {
   // scan with clock jitter adds its displacement but no time.
   const double forward = d.x() * std::cos(last_.yaw) + d.y() * std::sin(last_.yaw);
   const double signed_distance = forward < 0.0 ? -distance : distance;
-  const double speed = jitter ? 0.0 : signed_distance / dt;
-  distances_[speed_next_] = signed_distance;
-  intervals_[speed_next_] = jitter ? 0.0 : dt;
+  const bool timeless = jitter || stalled;
+  const double speed = timeless ? 0.0 : signed_distance / dt;
+  distances_[speed_next_] = stalled ? 0.0 : signed_distance;
+  intervals_[speed_next_] = timeless ? 0.0 : dt;
   speed_next_ = (speed_next_ + 1) % int(distances_.size());
   speed_count_ = std::min(speed_count_ + 1, int(distances_.size()));
   double window_distance = 0.0, window_time = 0.0;
@@ -98,7 +115,12 @@ AlignStep CircleAligner::Align(double t, const Pose2D& sensor) {
     window_distance += distances_[i];
     window_time += intervals_[i];
   }
-  const double filtered = window_time > 0.0 ? window_distance / window_time : 0.0;
+  // No speed beyond max_speed_mps is believed (the jump test's rule): a window of a few
+  // denormal-small intervals would otherwise give an infinite speed.
+  const double filtered =
+      window_time > 0.0
+          ? std::clamp(window_distance / window_time, -config_.max_speed_mps, config_.max_speed_mps)
+          : 0.0;
 
   // P_c: on the circle, heading along the radius; behind the centre when moving forward.
   const double yaw = WrapAngle(sensor.yaw);  // eq. (2)
@@ -108,14 +130,15 @@ AlignStep CircleAligner::Align(double t, const Pose2D& sensor) {
   const Vec2 circle_point = centre_ - side * radius * Vec2(std::cos(yaw), std::sin(yaw));
 
   // Eq. (3) with P_local^{t-1} expressed through the previous origin.
-  const Vec2 shift = (Vec2(sensor.x, sensor.y) - anchor_) / resolution_ -
-                     Vec2(double(origin_x_), double(origin_y_)) - circle_point;
+  const Vec2 shift = cells - Vec2(double(origin_x_), double(origin_y_)) - circle_point;
   const double kx = std::floor(shift.x()), ky = std::floor(shift.y());
   origin_x_ += std::int64_t(kx);
   origin_y_ += std::int64_t(ky);
   last_t_ = std::max(last_t_, t);  // the clock of accepted scans never runs backwards
   last_ = sensor;
   step.timestamp_jitter = jitter;
+  step.clock_stalled = stalled;
+  step.stall_detected = stalled && repeats_ == kStalledClockScans - 1;
 
   step.accepted = true;
   step.shift_x = int(std::clamp(kx, -1e9, 1e9));

@@ -81,6 +81,8 @@ void Estimator::Impl::Begin(const Scan& scan) {
   r.message.clear();
   r.map_reset = false;
   r.timestamp_jitter = false;
+  r.clock_stalled = false;
+  r.stall_detected = false;
   r.pose = scan.pose;
   r.times = StageTimes{};
   r.stats = ScanStats{};
@@ -112,6 +114,21 @@ bool Estimator::Impl::CheckInput(const Scan& scan) {
     Reject(RejectReason::kPoseNotFinite, text);
     return false;
   }
+  // Finite but extreme values would overflow the map's integer origin and cell indices: the
+  // bounds of freespace/scan.hpp keep every derived quantity representable.
+  if (!(std::abs(scan.timestamp_s) <= kMaxTimestampS)) {
+    std::snprintf(text, sizeof text,
+                  "timestamp %.6g s is out of range (|t| <= %.0e s; another unit than seconds?)",
+                  scan.timestamp_s, kMaxTimestampS);
+    Reject(RejectReason::kTimestampOutOfRange, text);
+    return false;
+  }
+  if (!(std::abs(scan.pose.x) <= kMaxCoordinateM && std::abs(scan.pose.y) <= kMaxCoordinateM)) {
+    std::snprintf(text, sizeof text, "pose (%.6g, %.6g) m is out of range (|x|, |y| <= %.0e m)",
+                  scan.pose.x, scan.pose.y, kMaxCoordinateM);
+    Reject(RejectReason::kPoseOutOfRange, text);
+    return false;
+  }
   return true;
 }
 
@@ -129,6 +146,11 @@ bool Estimator::Impl::Align(const Scan& scan) {
                     "alignment.time_jitter_s %.3f s)",
                     scan.timestamp_s, previous_t - scan.timestamp_s, previous_t,
                     config_.alignment.time_jitter_s);
+    } else if (step.reason == RejectReason::kPoseOutOfRange) {
+      std::snprintf(text, sizeof text,
+                    "sensor pose (%.6g, %.6g) m moves the map by more cells than an integer "
+                    "holds at map.resolution_m %g",
+                    r.sensor_pose.x, r.sensor_pose.y, config_.map.resolution_m);
     } else {
       std::snprintf(text, sizeof text,
                     "pose jumped %.1f m in %.3f s (limit %.0f m/s + %.1f m); jump %d of %d "
@@ -147,6 +169,15 @@ bool Estimator::Impl::Align(const Scan& scan) {
                   "timestamp %.6f s is not after the previous scan's %.6f s: clock jitter, used "
                   "without a speed sample",
                   scan.timestamp_s, previous_t);
+    r.message.assign(text);
+  }
+  r.clock_stalled = step.clock_stalled;
+  r.stall_detected = step.stall_detected;
+  if (step.stall_detected) {
+    std::snprintf(text, sizeof text,
+                  "the clock has stalled: %d scans in a row stamped %.6f s; until it advances, "
+                  "poses are used without a jump test and give no speed",
+                  kStalledClockScans, scan.timestamp_s);
     r.message.assign(text);
   }
   const Pose2D before = last_sensor_;
@@ -301,6 +332,10 @@ const char* ToString(RejectReason reason) {
       return "timestamp_not_increasing";
     case RejectReason::kPoseNotFinite:
       return "pose_not_finite";
+    case RejectReason::kTimestampOutOfRange:
+      return "timestamp_out_of_range";
+    case RejectReason::kPoseOutOfRange:
+      return "pose_out_of_range";
     case RejectReason::kPoseJump:
       return "pose_jump";
   }

@@ -6,9 +6,20 @@
 #include "output/polygon_text.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace freespace {
+
+void AppendJsonNumber(std::string* text, double v, int decimals) {
+  if (!std::isfinite(v)) {
+    *text += "null";
+    return;
+  }
+  char buffer[352];  // at most 309 integer digits, a sign, a point and the decimals
+  const int n = std::snprintf(buffer, sizeof buffer, "%.*f", decimals, v);
+  text->append(buffer, std::size_t(n));
+}
 
 std::vector<Vec2> ClosedCcwRing(const std::vector<Vec2>& polygon) {
   std::vector<Vec2> ring = polygon;
@@ -28,10 +39,12 @@ std::vector<Vec2> ClosedCcwRing(const std::vector<Vec2>& polygon) {
 std::string RingJson(const std::vector<Vec2>& ring) {
   std::string text = "[";
   text.reserve(2 + 24 * ring.size());
-  char buffer[64];
   for (std::size_t i = 0; i < ring.size(); ++i) {
-    std::snprintf(buffer, sizeof buffer, "%s[%.4f,%.4f]", i ? "," : "", ring[i].x(), ring[i].y());
-    text += buffer;
+    text += i ? ",[" : "[";
+    AppendJsonNumber(&text, ring[i].x(), 4);
+    text += ',';
+    AppendJsonNumber(&text, ring[i].y(), 4);
+    text += ']';
   }
   text += "]";
   return text;
@@ -46,15 +59,18 @@ std::string PolygonGeoJsonLine(const Result& r) {
   } else {
     line += "null";
   }
-  char buffer[320];
-  std::snprintf(buffer, sizeof buffer,
-                ",\"properties\":{\"scan\":%llu,\"t_s\":%.6f,\"status\":\"%s\","
-                "\"polygon_status\":\"%s\",\"frame\":\"%s\",\"pose\":{\"x\":%.6f,"
-                "\"y\":%.6f,\"yaw\":%.6f},\"speed_mps\":%.3f}}",
-                static_cast<unsigned long long>(r.scan_index), r.timestamp_s, ToString(r.status),
-                ToString(r.polygon_status), kPolygonFrame, r.pose.x, r.pose.y, r.pose.yaw,
-                r.filtered_speed_mps);
-  line += buffer;
+  line += ",\"properties\":{\"scan\":" + std::to_string(r.scan_index) + ",\"t_s\":";
+  AppendJsonNumber(&line, r.timestamp_s, 6);
+  line += std::string(",\"status\":\"") + ToString(r.status) + "\",\"polygon_status\":\"" +
+          ToString(r.polygon_status) + "\",\"frame\":\"" + kPolygonFrame + "\",\"pose\":{\"x\":";
+  AppendJsonNumber(&line, r.pose.x, 6);
+  line += ",\"y\":";
+  AppendJsonNumber(&line, r.pose.y, 6);
+  line += ",\"yaw\":";
+  AppendJsonNumber(&line, r.pose.yaw, 6);
+  line += "},\"speed_mps\":";
+  AppendJsonNumber(&line, r.filtered_speed_mps, 3);
+  line += "}}";
   return line;
 }
 

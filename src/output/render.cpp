@@ -80,9 +80,9 @@ void WritePng(const std::string& path, const cv::Mat& image) {
   try {
     ok = cv::imwrite(path, image);
   } catch (const cv::Exception& e) {
-    throw InputError(path + ": cannot write PNG: " + e.what());
+    throw OutputError(path + ": cannot write PNG: " + e.what());
   }
-  if (!ok) throw InputError(path + ": cannot write PNG");
+  if (!ok) throw OutputError(path + ": cannot write PNG");
 }
 
 }  // namespace freespace

@@ -1,7 +1,6 @@
-// The polygons.jsonl line of a scan (docs/formats.md).
+// The polygons.jsonl line of a scan (docs/formats.md). Numbers through AppendJsonNumber: never
+// cut, `null` when not finite.
 #include "output/report.hpp"
-
-#include <cstdio>
 
 #include "output/polygon_text.hpp"
 
@@ -9,18 +8,27 @@ namespace freespace {
 
 std::string PolygonJsonLine(std::uint64_t scan, const Result& r) {
   std::string line;
-  line.reserve(128 + 40 * r.polygon.size());
-  char buffer[256];
-  std::snprintf(buffer, sizeof buffer,
-                "{\"scan\":%llu,\"t_s\":%.6f,\"status\":\"%s\",\"frame\":\"%s\","
-                "\"pose\":{\"x\":%.6f,\"y\":%.6f,"
-                "\"yaw\":%.6f},\"origin\":[%.6f,%.6f],\"vehicle_cells\":[%.4f,%.4f],"
-                "\"speed_mps\":%.3f,\"polygon_status\":\"%s\",\"polygon\":",
-                static_cast<unsigned long long>(scan), r.timestamp_s, ToString(r.status),
-                kPolygonFrame, r.pose.x, r.pose.y, r.pose.yaw, r.origin.x(), r.origin.y(),
-                r.vehicle_cells.x(), r.vehicle_cells.y(), r.filtered_speed_mps,
-                ToString(r.polygon_status));
-  line += buffer;
+  line.reserve(200 + 24 * r.polygon.size());
+  line += "{\"scan\":" + std::to_string(scan) + ",\"t_s\":";
+  AppendJsonNumber(&line, r.timestamp_s, 6);
+  line += std::string(",\"status\":\"") + ToString(r.status) + "\",\"frame\":\"" + kPolygonFrame +
+          "\",\"pose\":{\"x\":";
+  AppendJsonNumber(&line, r.pose.x, 6);
+  line += ",\"y\":";
+  AppendJsonNumber(&line, r.pose.y, 6);
+  line += ",\"yaw\":";
+  AppendJsonNumber(&line, r.pose.yaw, 6);
+  line += "},\"origin\":[";
+  AppendJsonNumber(&line, r.origin.x(), 6);
+  line += ',';
+  AppendJsonNumber(&line, r.origin.y(), 6);
+  line += "],\"vehicle_cells\":[";
+  AppendJsonNumber(&line, r.vehicle_cells.x(), 4);
+  line += ',';
+  AppendJsonNumber(&line, r.vehicle_cells.y(), 4);
+  line += "],\"speed_mps\":";
+  AppendJsonNumber(&line, r.filtered_speed_mps, 3);
+  line += std::string(",\"polygon_status\":\"") + ToString(r.polygon_status) + "\",\"polygon\":";
   line += RingJson(ClosedCcwRing(r.polygon));  // closed, counter-clockwise
   line += "}";
   return line;

@@ -126,10 +126,10 @@ void WriteTruth(const std::string& path, const Truth& truth) {
                     {"obstacles", obstacles},
                     {"scans", scans}};
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError(path + ": cannot create");
+  if (!out) throw OutputError(path + ": cannot create");
   out << doc.dump(1) << "\n";
   out.close();
-  if (out.fail()) throw InputError(path + ": write failed");
+  if (out.fail()) throw OutputError(path + ": write failed");
 }
 
 Truth ReadTruth(const std::string& path) {

@@ -17,6 +17,7 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 constexpr double kNoEchoMargin = 0.01;
+constexpr int kMaxLayer = 255;  // ScanPoint::layer is a uint8
 
 bool IsMessageName(std::string_view s) {
   return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
@@ -58,7 +59,8 @@ class CarmenReader final : public LogReader {
         if (!ParseRobotLaser(line_no, 0, scan, &t)) continue;
         line_ = line_no;
         // Further layers: following ROBOTLASER1 lines with the same timestamp.
-        std::uint8_t layer = 1;
+        int layer = 1;  // a layer index is a uint8: lines past the 256th of a scan are skipped
+        std::size_t skipped = 0, skipped_from = 0;
         std::string next;
         std::size_t next_no = 0;
         while (NextLine(&next, &next_no)) {
@@ -67,7 +69,9 @@ class CarmenReader final : public LogReader {
           Scan layer_scan;
           if (!fields_.empty() && fields_[0] == "ROBOTLASER1" && PeekTimestamp(&t_next) &&
               t_next == t) {
-            if (ParseRobotLaser(next_no, layer, &layer_scan, &t_next)) {
+            if (layer > kMaxLayer) {
+              if (skipped++ == 0) skipped_from = next_no;
+            } else if (ParseRobotLaser(next_no, std::uint8_t(layer), &layer_scan, &t_next)) {
               scan->points.insert(scan->points.end(), layer_scan.points.begin(),
                                   layer_scan.points.end());
             }
@@ -79,9 +83,15 @@ class CarmenReader final : public LogReader {
           has_pending_ = true;
           break;
         }
+        if (skipped > 0) {
+          Report(skipped_from, "ROBOTLASER1: " + std::to_string(skipped) +
+                                   " line(s) from here on " + "share the timestamp of the " +
+                                   std::to_string(kMaxLayer + 1) +
+                                   " before them, more layers than a scan holds; skipped");
+        }
         return true;
       } else if (!IsMessageName(fields_[0])) {
-        Report(line_no, "not a CARMEN message (starts with '" + std::string(fields_[0]) + "')");
+        Report(line_no, "not a CARMEN message (starts with '" + Excerpt(fields_[0]) + "')");
       }
       // Any other message is ignored.
     }
@@ -173,7 +183,8 @@ class CarmenReader final : public LogReader {
   bool PeekTimestamp(double* t) const {
     long n = 0, m = 0;
     if (fields_.size() < 10 || !ParseInt(fields_[8], &n) || n < 0 ||
-        fields_.size() < std::size_t(n) + 10 || !ParseInt(fields_[9 + n], &m) || m < 0) {
+        fields_.size() < std::size_t(n) + 10 || !ParseInt(fields_[9 + n], &m) || m < 0 ||
+        std::size_t(m) > fields_.size()) {
       return false;
     }
     const std::size_t at = std::size_t(n + m) + 21;
@@ -182,15 +193,15 @@ class CarmenReader final : public LogReader {
 
   bool ParseNumber(std::size_t line_no, std::size_t index, const char* what, double* value) {
     if (ParseDouble(fields_[index], value)) return true;
-    Report(line_no, std::string(fields_[0]) + ": " + what + " (field " + std::to_string(index + 1) +
-                        ", '" + std::string(fields_[index]) + "') is not a number; line skipped");
+    Report(line_no, Excerpt(fields_[0]) + ": " + what + " (field " + std::to_string(index + 1) +
+                        ", '" + Excerpt(fields_[index]) + "') is not a number; line skipped");
     return false;
   }
 
   bool ParseFlaser(std::size_t line_no, Scan* scan) {
     long n = 0;
     if (fields_.size() < 2 || !ParseInt(fields_[1], &n) || n <= 0 || n > 100000) {
-      Report(line_no, "FLASER: beam count '" + (fields_.size() > 1 ? std::string(fields_[1]) : "") +
+      Report(line_no, "FLASER: beam count '" + (fields_.size() > 1 ? Excerpt(fields_[1]) : "") +
                           "' is not a positive integer; line skipped");
       return false;
     }
@@ -231,7 +242,7 @@ class CarmenReader final : public LogReader {
       return false;
     }
     if (fields_.size() < std::size_t(n) + 10 || !ParseInt(fields_[9 + n], &m) || m < 0 ||
-        fields_.size() < std::size_t(n + m) + 24) {
+        std::size_t(m) > fields_.size() || fields_.size() < std::size_t(n + m) + 24) {
       Report(line_no, "ROBOTLASER1: truncated line: " + std::to_string(fields_.size()) +
                           " fields for " + std::to_string(n) + " beams; line skipped");
       return false;

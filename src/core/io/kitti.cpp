@@ -29,13 +29,6 @@ class KittiReader final : public LogReader {
     }
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open");
-    std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (bytes.size() % 16 != 0) {
-      Report(0, "size " + std::to_string(bytes.size()) +
-                    " is not a multiple of 16 bytes (x y z reflectance float32); the last " +
-                    std::to_string(bytes.size() % 16) + " bytes are ignored");
-    }
-    const std::size_t records = bytes.size() / 16;
     const int bins = int(std::floor((sensor_.max_angle_deg - sensor_.min_angle_deg) /
                                         sensor_.angular_resolution_deg +
                                     0.5)) +
@@ -43,36 +36,28 @@ class KittiReader final : public LogReader {
     const int layers = sensor_.layers;
     std::vector<float> nearest(std::size_t(bins) * layers, std::numeric_limits<float>::infinity());
     std::vector<float> angle(std::size_t(bins) * layers, 0.0f);
+    // The file is read in chunks of whole records, never held at once (frames can be large).
+    std::vector<char> chunk(16 * 4096);
+    std::uint64_t size = 0;
     std::size_t not_finite = 0;
-    for (std::size_t i = 0; i < records; ++i) {
-      float v[4];
-      std::memcpy(v, bytes.data() + 16 * i, 16);
-      if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
-        ++not_finite;
-        continue;
-      }
-      const double horizontal = std::hypot(double(v[0]), double(v[1]));
-      if (horizontal <= 0.0) continue;
-      const double elevation = std::atan2(double(v[2]), horizontal) * kRadToDeg;
-      int layer = -1;
-      double best = options.kitti_layer_tolerance_deg;
-      for (int l = 0; l < layers; ++l) {
-        const double d = std::abs(elevation - options.kitti_layer_elevations_deg[l]);
-        if (d <= best) {
-          best = d;
-          layer = l;
+    while (in) {
+      in.read(chunk.data(), std::streamsize(chunk.size()));
+      const std::size_t got = std::size_t(in.gcount());
+      size += got;
+      for (std::size_t i = 0; i + 16 <= got; i += 16) {
+        float v[4];
+        std::memcpy(v, chunk.data() + i, 16);
+        if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
+          ++not_finite;
+          continue;
         }
+        AddRecord(v, options, bins, &nearest, &angle);
       }
-      if (layer < 0) continue;
-      const double azimuth = std::atan2(double(v[1]), double(v[0])) * kRadToDeg;
-      const double b = (azimuth - sensor_.min_angle_deg) / sensor_.angular_resolution_deg;
-      const long bin = std::lround(b);
-      if (bin < 0 || bin >= bins) continue;
-      float& r = nearest[std::size_t(layer) * bins + bin];
-      if (horizontal < r) {
-        r = float(horizontal);
-        angle[std::size_t(layer) * bins + bin] = float(azimuth / kRadToDeg);
-      }
+    }
+    if (size % 16 != 0) {
+      Report(0, "size " + std::to_string(size) +
+                    " is not a multiple of 16 bytes (x y z reflectance float32); the last " +
+                    std::to_string(size % 16) + " bytes are ignored");
     }
     if (not_finite > 0) {
       Report(0, std::to_string(not_finite) + " records with non-finite coordinates ignored");
@@ -93,6 +78,33 @@ class KittiReader final : public LogReader {
                 : float((sensor_.min_angle_deg + b * sensor_.angular_resolution_deg) / kRadToDeg);
         scan_.points.push_back(p);
       }
+    }
+  }
+
+  // One record (x, y, z finite): the nearest horizontal range per layer and azimuth bin.
+  void AddRecord(const float v[4], const LogOptions& options, int bins, std::vector<float>* nearest,
+                 std::vector<float>* angle) const {
+    const double horizontal = std::hypot(double(v[0]), double(v[1]));
+    if (horizontal <= 0.0) return;
+    const double elevation = std::atan2(double(v[2]), horizontal) * kRadToDeg;
+    int layer = -1;
+    double best = options.kitti_layer_tolerance_deg;
+    for (int l = 0; l < sensor_.layers; ++l) {
+      const double d = std::abs(elevation - options.kitti_layer_elevations_deg[l]);
+      if (d <= best) {
+        best = d;
+        layer = l;
+      }
+    }
+    if (layer < 0) return;
+    const double azimuth = std::atan2(double(v[1]), double(v[0])) * kRadToDeg;
+    const double b = (azimuth - sensor_.min_angle_deg) / sensor_.angular_resolution_deg;
+    const long bin = std::lround(b);
+    if (bin < 0 || bin >= bins) return;
+    float& r = (*nearest)[std::size_t(layer) * bins + bin];
+    if (horizontal < r) {
+      r = float(horizontal);
+      (*angle)[std::size_t(layer) * bins + bin] = float(azimuth / kRadToDeg);
     }
   }
 

@@ -53,7 +53,7 @@ LogFormat Detect(const std::string& path) {
                                "TRUEPOS", "NEFF", "RAWLASER1", "RAWLASER2"}) {
       if (fields[0] == carmen) return LogFormat::kCarmen;
     }
-    throw InputError(path + ": not a recognised log (first message '" + std::string(fields[0]) +
+    throw InputError(path + ": not a recognised log (first message '" + io::Excerpt(fields[0]) +
                      "'; expected a CARMEN log, a KITTI .bin frame or a FREESPACE_LOG file)");
   }
   throw InputError(path + ": empty log");

@@ -37,13 +37,13 @@ std::string Decimal(double v) {
 
 std::ofstream OpenOut(const std::string& path) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError(path + ": cannot create");
+  if (!out) throw OutputError(path + ": cannot create");
   return out;
 }
 
 void Finish(std::ofstream& out, const std::string& path) {
   out.close();
-  if (!out) throw InputError(path + ": write failed");
+  if (!out) throw OutputError(path + ": write failed");
 }
 
 std::string BaseName(const std::string& path) {

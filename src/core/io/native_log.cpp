@@ -57,6 +57,10 @@ class NativeReader final : public LogReader {
                          ": expected 'SENSOR layers min_angle_deg max_angle_deg resolution_deg "
                          "min_range_m max_range_m mount_x_m mount_y_m mount_yaw_deg'");
       }
+      if (!(v[0] >= 1 && v[0] <= 255 && v[0] == std::floor(v[0]))) {
+        throw InputError(path + ":" + std::to_string(line_no_) + ": SENSOR layer count '" +
+                         Excerpt(fields_[1]) + "' is not an integer 1..255");
+      }
       sensor_.layers = int(v[0]);
       sensor_.min_angle_deg = v[1];
       sensor_.max_angle_deg = v[2];
@@ -76,7 +80,7 @@ class NativeReader final : public LogReader {
     while (NextLine(&line)) {
       SplitFields(line, &fields_);
       if (fields_[0] != "SCAN") {
-        Report(line_no_, "unknown record '" + std::string(fields_[0]) + "'; line skipped");
+        Report(line_no_, "unknown record '" + Excerpt(fields_[0]) + "'; line skipped");
         continue;
       }
       if (Parse(scan)) {
@@ -112,19 +116,24 @@ class NativeReader final : public LogReader {
     }
     for (int i = 0; i < 4; ++i) {
       if (!ParseDouble(fields_[i + 1], &head[i])) {
-        Report(line_no_, "SCAN: field " + std::to_string(i + 2) + " ('" +
-                             std::string(fields_[i + 1]) + "') is not a number; line skipped");
+        Report(line_no_, "SCAN: field " + std::to_string(i + 2) + " ('" + Excerpt(fields_[i + 1]) +
+                             "') is not a number; line skipped");
         return false;
       }
     }
     if (!ParseInt(fields_[5], &n) || n < 0) {
-      Report(line_no_, "SCAN: point count '" + std::string(fields_[5]) +
+      Report(line_no_, "SCAN: point count '" + Excerpt(fields_[5]) +
                            "' is not a non-negative integer; line skipped");
       return false;
     }
-    if (fields_.size() != std::size_t(6 + 3 * n)) {
-      Report(line_no_, "SCAN: " + std::to_string(fields_.size()) + " fields, expected " +
-                           std::to_string(6 + 3 * n) + " for " + std::to_string(n) +
+    // n is compared with the fields there are, never multiplied: a huge count cannot overflow.
+    const std::size_t triples = (fields_.size() - 6) / 3;
+    if ((fields_.size() - 6) % 3 != 0 || std::size_t(n) != triples) {
+      const std::string expected = std::size_t(n) <= fields_.size()
+                                       ? std::to_string(6 + 3 * std::size_t(n))
+                                       : "6 + 3 per point";
+      Report(line_no_, "SCAN: " + std::to_string(fields_.size()) + " fields, expected " + expected +
+                           " for " + std::to_string(n) +
                            " points (truncated or extra data); line skipped");
       return false;
     }
@@ -138,8 +147,8 @@ class NativeReader final : public LogReader {
       ScanPoint& p = scan->points[i];
       if (!ParseInt(fields_[f], &layer) || layer < 0 || layer > 255 ||
           !ParseDouble(fields_[f + 1], &angle)) {
-        Report(line_no_, "SCAN: point " + std::to_string(i) + " ('" + std::string(fields_[f]) +
-                             " " + std::string(fields_[f + 1]) +
+        Report(line_no_, "SCAN: point " + std::to_string(i) + " ('" + Excerpt(fields_[f]) + " " +
+                             Excerpt(fields_[f + 1]) +
                              "') needs a layer 0..255 and an angle; line skipped");
         return false;
       }
@@ -152,8 +161,7 @@ class NativeReader final : public LogReader {
         p.echo = true;
         p.range_m = float(range);
       } else {
-        Report(line_no_, "SCAN: point " + std::to_string(i) + " range '" +
-                             std::string(fields_[f + 2]) +
+        Report(line_no_, "SCAN: point " + std::to_string(i) + " range '" + Excerpt(fields_[f + 2]) +
                              "' is not a number or '-'; line skipped");
         return false;
       }
@@ -178,7 +186,7 @@ std::unique_ptr<LogReader> OpenNative(const std::string& path, const LogOptions&
 
 NativeLogWriter::NativeLogWriter(const std::string& path, const SensorConfig& s)
     : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
-  if (!out_) throw InputError(path + ": cannot create");
+  if (!out_) throw OutputError(path + ": cannot create");
   char line[512];
   std::snprintf(line, sizeof line,
                 "FREESPACE_LOG 1\n# SENSOR layers min_angle_deg max_angle_deg resolution_deg "
@@ -209,17 +217,17 @@ void NativeLogWriter::Write(const Scan& scan) {
   }
   text += '\n';
   out_ << text;
-  if (!out_) throw InputError(path_ + ": write failed");
+  if (!out_) throw OutputError(path_ + ": write failed");
 }
 
 void NativeLogWriter::Close() {
   out_.close();
-  if (out_.fail()) throw InputError(path_ + ": write failed");
+  if (out_.fail()) throw OutputError(path_ + ": write failed");
 }
 
 RobotLaserWriter::RobotLaserWriter(const std::string& path, const SensorConfig& sensor)
     : path_(path), sensor_(sensor), out_(path, std::ios::binary | std::ios::trunc) {
-  if (!out_) throw InputError(path + ": cannot create");
+  if (!out_) throw OutputError(path + ": cannot create");
   out_ << "# ROBOTLASER1 type start_angle fov angular_res max_range accuracy remission_mode n "
           "ranges m remissions laser_x laser_y laser_theta robot_x robot_y robot_theta tv rv "
           "forward_safety side_safety turn_axis ipc_timestamp ipc_hostname logger_timestamp\n"
@@ -259,12 +267,12 @@ void RobotLaserWriter::Write(const Scan& scan) {
     text += buffer;
     out_ << text;
   }
-  if (!out_) throw InputError(path_ + ": write failed");
+  if (!out_) throw OutputError(path_ + ": write failed");
 }
 
 void RobotLaserWriter::Close() {
   out_.close();
-  if (out_.fail()) throw InputError(path_ + ": write failed");
+  if (out_.fail()) throw OutputError(path_ + ": write failed");
 }
 
 }  // namespace freespace

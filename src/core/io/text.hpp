@@ -2,6 +2,7 @@
 // numbers with a message that names the field.
 #pragma once
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <string>
@@ -44,6 +45,31 @@ inline bool ParseInt(std::string_view field, long* value) {
   errno = 0;
   *value = std::strtol(buffer, &end, 10);
   return end == buffer + field.size() && errno != ERANGE;
+}
+
+// A printable excerpt of `text` for a message, at most `max_bytes` long before its suffix:
+// bytes outside printable ASCII become \xNN (4 characters), and a text cut short ends in
+// "... (N bytes)". A message never carries more than a few hundred bytes of its input, however
+// long the line or binary the file.
+inline std::string Excerpt(std::string_view text, std::size_t max_bytes = 40) {
+  static const char kHex[] = "0123456789abcdef";
+  std::string out;
+  out.reserve(max_bytes + 24);
+  std::size_t i = 0;
+  for (; i < text.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    const bool printable = c >= 0x20 && c < 0x7f;
+    if (out.size() + (printable ? 1 : 4) > max_bytes) break;
+    if (printable) {
+      out += char(c);
+    } else {
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  if (i < text.size()) out += "... (" + std::to_string(text.size()) + " bytes)";
+  return out;
 }
 
 inline bool IsCommentOrBlank(std::string_view line) {

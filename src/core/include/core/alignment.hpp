@@ -30,7 +30,14 @@ struct AlignStep {
   Vec2 circle_point;              // P_c, cells
   bool timestamp_jitter = false;  // the timestamp was not after the previous one, but within
                                   // alignment.time_jitter_s: used without a speed sample
+  bool clock_stalled = false;     // the clock has stalled (kStalledClockScans scans in a row
+                                  // with one timestamp): no jump test, no speed sample
+  bool stall_detected = false;    // this scan is the one that found the stall
 };
+
+// Scans in a row stamped with the same time after which the clock counts as stalled (logs whose
+// timestamps never advance, such as some corrected CARMEN logs).
+inline constexpr int kStalledClockScans = 3;
 
 class CircleAligner {
  public:
@@ -70,6 +77,7 @@ class CircleAligner {
   int speed_count_ = 0;
   int speed_next_ = 0;
   int jumps_ = 0;
+  int repeats_ = 0;  // scans in a row (accepted or not) stamped last_t_ after the one that was
 };
 
 // Angle wrapped to (-pi, pi].

@@ -1,0 +1,212 @@
+// Config::FromYaml and the YAML helpers: reading a config file through the field table
+// (config_table.hpp). Every error is a ConfigError naming the file, the line and the field; a
+// section or field given twice is an error, not a silent choice of one.
+#include <yaml-cpp/yaml.h>
+
+#include <fstream>
+#include <map>
+
+#include "config_table.hpp"
+#include "freespace/config.hpp"
+#include "freespace/errors.hpp"
+#include "io/text.hpp"
+
+namespace freespace {
+using namespace config_table;
+namespace {
+
+// Appends a compact flow form of `n` ("[1, 2]", "{x: 1}") to `out`, stopping at a depth of 4 or
+// past 80 bytes: a node may be huge or, through an alias, contain itself.
+void Describe(const YAML::Node& n, std::string* out, int depth) {
+  if (depth > 4 || out->size() > 80) {
+    *out += "...";
+    return;
+  }
+  if (n.IsScalar()) {
+    *out += n.Scalar().substr(0, 81);
+  } else if (n.IsSequence() || n.IsMap()) {
+    *out += n.IsMap() ? "{" : "[";
+    bool first = true;
+    for (const auto& item : n) {
+      if (out->size() > 80) {
+        *out += ", ...";
+        break;
+      }
+      if (!first) *out += ", ";
+      first = false;
+      if (n.IsMap()) {
+        Describe(item.first, out, depth + 1);
+        *out += ": ";
+        Describe(item.second, out, depth + 1);
+      } else {
+        Describe(item, out, depth + 1);
+      }
+    }
+    *out += n.IsMap() ? "}" : "]";
+  } else {
+    *out += "null";
+  }
+}
+
+// A node's text for a message: a short printable excerpt of its scalar or its flow form.
+std::string ValueExcerpt(const YAML::Node& n) {
+  if (n.IsScalar()) return io::Excerpt(n.Scalar(), 60);
+  std::string text;
+  Describe(n, &text, 0);
+  return io::Excerpt(text, 60);
+}
+
+class YamlReader {
+ public:
+  YamlReader(const YAML::Node& root, std::string source)
+      : root_(root), source_(std::move(source)) {}
+
+  void Section(const char* name) {
+    section_ = name;
+    node_ = root_[name];
+    if (node_ && !node_.IsMap() && !node_.IsNull()) {
+      throw ConfigError(Where(node_) + "'" + section_ + "' must be a mapping of fields");
+    }
+  }
+
+  template <class T>
+  void operator()(const char* name, T& field, const Spec&) {
+    if (!node_ || !node_.IsMap()) return;
+    const YAML::Node value = node_[name];
+    if (!value) return;
+    try {
+      field = value.as<T>();
+    } catch (const YAML::Exception&) {
+      throw ConfigError(Where(value) + section_ + "." + name + " = '" + ValueExcerpt(value) +
+                        "': not a valid " + TypeName(field));
+    }
+  }
+
+  template <class E, std::size_t N>
+  void Enum(const char* name, E& field, const EnumName<E> (&names)[N], const Spec&) {
+    if (!node_ || !node_.IsMap()) return;
+    const YAML::Node value = node_[name];
+    if (!value) return;
+    if (value.IsScalar()) {
+      for (const auto& n : names) {
+        if (value.Scalar() == n.name) {
+          field = n.value;
+          return;
+        }
+      }
+    }
+    throw ConfigError(Where(value) + section_ + "." + name + " = '" + ValueExcerpt(value) +
+                      "': must be one of " + AllowedNames(names, " | "));
+  }
+
+ private:
+  // "source:line: " of a value.
+  std::string Where(const YAML::Node& value) const {
+    const int line = value.Mark().line;
+    return line >= 0 ? source_ + ":" + std::to_string(line + 1) + ": " : source_ + ": ";
+  }
+  static const char* TypeName(int) { return "integer"; }
+  static const char* TypeName(double) { return "number"; }
+  static const char* TypeName(bool) { return "boolean (true/false)"; }
+  static const char* TypeName(const std::string&) { return "string"; }
+
+  YAML::Node root_;
+  YAML::Node node_;
+  std::string source_;
+  std::string section_;
+};
+
+// "source:line N" of a node, for messages (yaml-cpp counts lines from 0).
+std::string Where(const std::string& source, const YAML::Node& node) {
+  const YAML::Mark mark = node.Mark();
+  return mark.line >= 0 ? source + ":" + std::to_string(mark.line + 1) : source;
+}
+
+// The text of a section or field name; a key that is not a plain scalar (`? [a, b]`) is a
+// ConfigError naming where it is.
+std::string KeyName(const YAML::Node& key, const std::string& source, const char* what) {
+  if (!key.IsScalar()) {
+    throw ConfigError(Where(source, key) + ": a " + what + " name must be a plain word, not '" +
+                      ValueExcerpt(key) + "'");
+  }
+  return key.Scalar();
+}
+
+// Checks the names of the sections and of their fields: each known, none twice (yaml-cpp
+// would silently read the first of two).
+void CheckKeys(const YAML::Node& root, const std::string& source) {
+  KeyCollector known;
+  Config defaults;
+  VisitFields(defaults, known);
+  std::map<std::string, int> sections;  // name -> line of its first appearance
+  for (const auto& section : root) {
+    const std::string name = KeyName(section.first, source, "section");
+    const auto it = known.keys().find(name);
+    if (it == known.keys().end()) {
+      throw ConfigError(Where(source, section.first) + ": unknown section '" + io::Excerpt(name) +
+                        "'");
+    }
+    const auto [first, fresh] = sections.emplace(name, section.first.Mark().line + 1);
+    if (!fresh) {
+      throw ConfigError(Where(source, section.first) + ": section '" + name +
+                        "' appears twice (first on line " + std::to_string(first->second) +
+                        "): merge the two");
+    }
+    if (!section.second.IsMap()) continue;
+    std::map<std::string, int> fields;
+    for (const auto& field : section.second) {
+      const std::string key = KeyName(field.first, source, "field");
+      if (!it->second.count(key)) {
+        throw ConfigError(Where(source, field.first) + ": unknown field '" + name + "." +
+                          io::Excerpt(key) + "'");
+      }
+      const auto [seen, new_field] = fields.emplace(key, field.first.Mark().line + 1);
+      if (!new_field) {
+        throw ConfigError(Where(source, field.first) + ": field '" + name + "." + key +
+                          "' appears twice (first on line " + std::to_string(seen->second) + ")");
+      }
+    }
+  }
+}
+
+}  // namespace
+
+Config Config::FromYaml(const std::string& yaml_text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(source + ":" + std::to_string(e.mark.line + 1) +
+                      ": not valid YAML: " + io::Excerpt(e.msg, 200));
+  }
+  Config config;
+  if (!root || root.IsNull()) return config;
+  if (!root.IsMap()) throw ConfigError(source + ": the top level must be a mapping of sections");
+  CheckKeys(root, source);
+  YamlReader reader(root, source);
+  VisitFields(config, reader);
+  return config;
+}
+
+Config Config::FromYamlFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError("config: cannot open '" + path + "'");
+  std::stringstream text;
+  text << in.rdbuf();
+  return FromYaml(text.str(), path);
+}
+
+std::vector<std::string> YamlSections(const std::string& yaml_text) {
+  std::vector<std::string> sections;
+  try {
+    const YAML::Node root = YAML::Load(yaml_text);
+    if (root && root.IsMap()) {
+      for (const auto& s : root) sections.push_back(s.first.as<std::string>());
+    }
+  } catch (const YAML::Exception&) {
+    // FromYaml reports the syntax error with its line.
+  }
+  return sections;
+}
+
+}  // namespace freespace

@@ -1,0 +1,138 @@
+// Bad and extreme input to the readers (docs/behaviour.md): every problem is reported with its
+// line and skipped, never thrown; counts and layer numbers that do not fit are caught before
+// any arithmetic on them; messages quote a short, printable excerpt of the input.
+#include <fstream>
+
+#include "test_util.hpp"
+
+namespace freespace {
+namespace {
+
+std::string TempFile(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+const char kNativeHeader[] = "FREESPACE_LOG 1\nSENSOR 1 -90 90 1 0 80 0 0 0\n";
+
+// Reads every scan; returns the timestamps and leaves the issues in `issues`.
+std::vector<double> ReadAll(const std::string& path, std::vector<LogIssue>* issues) {
+  auto reader = OpenLog(path);
+  std::vector<double> times;
+  Scan scan;
+  while (true) {
+    bool more = false;
+    EXPECT_NO_THROW(more = reader->Next(&scan));
+    if (!more) break;
+    times.push_back(scan.timestamp_s);
+  }
+  *issues = reader->TakeIssues();
+  return times;
+}
+
+TEST(BadInput, NativePointCountsThatOverflowAreReportedNotThrown) {
+  // 3 n + 6 overflows a long for the second count; the first is the largest long.
+  const std::string path =
+      TempFile("overflow.fslog", std::string(kNativeHeader) + "SCAN 1 0 0 0 1 0 1.0 5.0\n" +
+                                     "SCAN 2 0 0 0 9223372036854775807 0 1.0 5.0\n" +
+                                     "SCAN 3 0 0 0 3074457345618258602 0 1.0 5.0\n" +
+                                     "SCAN 4 0 0 0 1 0 1.0 5.0\n");
+  std::vector<LogIssue> issues;
+  EXPECT_EQ(ReadAll(path, &issues), (std::vector<double>{1.0, 4.0}));
+  ASSERT_EQ(issues.size(), 2u);
+  EXPECT_EQ(issues[0].line, 4u);
+  EXPECT_NE(issues[0].message.find("expected 6 + 3 per point"), std::string::npos)
+      << issues[0].message;
+  EXPECT_EQ(issues[1].line, 5u);
+}
+
+TEST(BadInput, NativeSensorLayerCountMustBeAnInteger1To255) {
+  for (const char* layers : {"1e300", "0", "256", "2.5", "nan", "-1"}) {
+    const std::string path =
+        TempFile("layers.fslog",
+                 "FREESPACE_LOG 1\nSENSOR " + std::string(layers) + " -90 90 1 0 80 0 0 0\n");
+    try {
+      OpenLog(path);
+      ADD_FAILURE() << layers << ": expected InputError";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(":2: SENSOR layer count '" + std::string(layers) +
+                                           "' is not an integer 1..255"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+std::string RobotLaser(double t, int n) {
+  std::string line = "ROBOTLASER1 0 -1.5 3 0.1 50 0.01 0 " + std::to_string(n);
+  for (int i = 0; i < n; ++i) line += " 5.0";
+  line += " 0 1 2 0.5 1 2 0.5 0 0 0 0 0 " + std::to_string(t) + " host " + std::to_string(t);
+  return line + "\n";
+}
+
+TEST(BadInput, RobotLaserLayersPast256AreReportedNotWrapped) {
+  std::string text;
+  for (int i = 0; i < 300; ++i) text += RobotLaser(1.0, 4);
+  text += RobotLaser(2.0, 4);
+  const std::string path = TempFile("many-layers.log", text);
+  auto reader = OpenLog(path);
+  Scan scan;
+  ASSERT_TRUE(reader->Next(&scan));
+  ASSERT_EQ(scan.points.size(), 256u * 4);
+  // Layer numbers run 0..255 once each, in order: none wrapped back to 0.
+  for (std::size_t i = 0; i < scan.points.size(); ++i) {
+    ASSERT_EQ(scan.points[i].layer, i / 4) << i;
+  }
+  const auto issues = reader->TakeIssues();
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].line, 257u);
+  EXPECT_NE(issues[0].message.find("44 line(s)"), std::string::npos) << issues[0].message;
+  ASSERT_TRUE(reader->Next(&scan));
+  EXPECT_DOUBLE_EQ(scan.timestamp_s, 2.0);
+  EXPECT_EQ(scan.points.size(), 4u);
+}
+
+TEST(BadInput, RobotLaserRemissionCountsThatOverflowAreReported) {
+  std::string line = RobotLaser(1.0, 4);
+  line.replace(line.find(" 0 1 2 0.5"), 2, " 9223372036854775807");
+  const std::string path = TempFile("remissions.log", RobotLaser(0.5, 4) + line + RobotLaser(2, 4));
+  std::vector<LogIssue> issues;
+  EXPECT_EQ(ReadAll(path, &issues), (std::vector<double>{0.5, 2.0}));
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].line, 2u);
+}
+
+TEST(BadInput, MessagesQuoteAShortPrintableExcerpt) {
+  // A 1 MB field and binary bytes: the message stays short and printable.
+  const std::string huge(1 << 20, '7');
+  const std::string binary = std::string("\x01\xff\x7f", 3) + "abc";
+  const std::string path =
+      TempFile("long.fslog", std::string(kNativeHeader) + "SCAN " + huge + " 0 0 0 0\n" + "SCAN " +
+                                 binary + " 0 0 0 0\n" + binary + "\n");
+  std::vector<LogIssue> issues;
+  EXPECT_TRUE(ReadAll(path, &issues).empty());
+  ASSERT_EQ(issues.size(), 3u);
+  for (const LogIssue& issue : issues) {
+    const std::string text = issue.ToString();
+    EXPECT_LT(text.size(), 400u) << text.substr(0, 400);
+    for (const char c : text) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << int(c);
+  }
+  EXPECT_NE(issues[0].message.find("7777... (1048576 bytes)"), std::string::npos)
+      << issues[0].message;
+  EXPECT_NE(issues[1].message.find("'\\x01\\xff\\x7fabc'"), std::string::npos) << issues[1].message;
+  // The same for a file that is no log at all.
+  const std::string not_log =
+      TempFile("binary.bin.txt", std::string("\x89PNG\r\n\x1a\n", 8) + huge);
+  try {
+    OpenLog(not_log);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string text = e.what();
+    EXPECT_LT(text.size(), 400u);
+    EXPECT_NE(text.find("'\\x89PNG"), std::string::npos) << text.substr(0, 400);
+  }
+}
+
+}  // namespace
+}  // namespace freespace

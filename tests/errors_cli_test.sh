@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# The error contract of the `freespace` command (docs/behaviour.md): an output that cannot be
+# written is an error naming the file with exit code 2, and nothing is claimed written that was
+# not; usage errors (CLI11's included) exit 2.
+# Usage: errors_cli_test.sh FREESPACE_BINARY OUT_DIR
+set -u
+bin=$1 out=$2
+rm -rf "$out" && mkdir -p "$out"
+fail() { echo "FAIL: $*"; exit 1; }
+[ -w /dev/full ] || { echo "SKIP: /dev/full is not writable here; the full-disk cases need it"; exit 0; }
+
+# expect CODE NAME CMD...: runs CMD, which must exit CODE; its stderr+stdout go to $out/NAME.txt.
+expect() {
+  local code=$1 name=$2
+  shift 2
+  "$@" >"$out/$name.txt" 2>&1
+  local rc=$?
+  [ $rc -eq "$code" ] || fail "$name: exit code $rc, expected $code: $(head -c 600 "$out/$name.txt")"
+}
+# names NAME TEXT: the output of case NAME mentions TEXT and claims nothing written.
+names() {
+  grep -qF -- "$2" "$out/$1.txt" || fail "$1: does not name $2: $(head -c 600 "$out/$1.txt")"
+  grep -q "wrote" "$out/$1.txt" && fail "$1: claims files written: $(cat "$out/$1.txt")"
+  return 0
+}
+
+"$bin" simulate --scenario parking --duration 1 --seed 3 --out "$out/sim" 2>/dev/null \
+  || fail "simulate failed"
+log="$out/sim/sim.fslog"
+run() { "$bin" run --log "$log" --backend tbb --quiet "$@"; }
+
+# run: polygons.jsonl on a full disk, summary.json and a snapshot blocked by a directory.
+mkdir -p "$out/full" && ln -s /dev/full "$out/full/polygons.jsonl"
+expect 2 run-full run --out "$out/full"
+names run-full "$out/full/polygons.jsonl: write failed: No space left on device"
+mkdir -p "$out/summary-dir/summary.json"
+expect 2 run-summary run --out "$out/summary-dir"
+names run-summary "$out/summary-dir/summary.json: cannot create"
+mkdir -p "$out/png-dir/snapshot_000000.png"
+expect 2 run-png run --out "$out/png-dir" --snapshot-every 1
+names run-png "$out/png-dir/snapshot_000000.png: cannot write PNG"
+# An output folder that cannot be created.
+touch "$out/a-file"
+expect 2 run-outdir run --out "$out/a-file/sub"
+names run-outdir "$out/a-file/sub: cannot create directory"
+expect 0 run-ok run --out "$out/ok"
+grep -q "wrote $out/ok/polygons.jsonl, summary.json" "$out/run-ok.txt" || fail "run-ok: no closing line"
+
+# A log whose clock never advances: the stall is said once, and every scan is used.
+awk '$1=="SCAN"{$2="5.0"} {print}' "$log" >"$out/stalled.fslog"
+"$bin" run --log "$out/stalled.fslog" --backend tbb --quiet --out "$out/stalled" \
+  2>"$out/stalled.txt" || fail "run on a stalled clock failed: $(cat "$out/stalled.txt")"
+[ "$(grep -c "the clock has stalled" "$out/stalled.txt")" -eq 1 ] \
+  || fail "stalled clock: expected one message: $(cat "$out/stalled.txt")"
+grep -q '"scans": 26,' "$out/stalled/summary.json" || fail "stalled clock: not every scan used"
+grep -q '"clock_stalled": 24,' "$out/stalled/summary.json" || fail "stalled clock: count"
+grep -q '"timestamp_jitter": 1,' "$out/stalled/summary.json" || fail "stalled clock: jitter"
+expect 1 stalled-strict "$bin" run --log "$out/stalled.fslog" --backend tbb --quiet --strict \
+  --out "$out/stalled-strict"
+
+# Extreme but finite poses and times: rejected with their reason, and every line written is
+# valid JSON.
+awk '$1=="SCAN" && $2=="0.400000"{$3="1e300"} $1=="SCAN" && $2=="0.480000"{$2="1e307"} {print}' \
+  "$log" >"$out/extreme.fslog"
+"$bin" run --log "$out/extreme.fslog" --backend tbb --quiet --out "$out/extreme" \
+  2>"$out/extreme.txt" || fail "run on extreme values failed: $(cat "$out/extreme.txt")"
+grep -q '"pose_out_of_range": 1' "$out/extreme/summary.json" || fail "extreme pose not rejected"
+grep -q '"timestamp_out_of_range": 1' "$out/extreme/summary.json" || fail "extreme time not rejected"
+/usr/bin/python3 -c '
+import json, sys
+for n, line in enumerate(open(sys.argv[1]), 1):
+    json.loads(line, parse_constant=lambda c: sys.exit("line %d: %s" % (n, c)))
+' "$out/extreme/polygons.jsonl" || fail "extreme: polygons.jsonl is not valid JSON"
+
+# simulate, eval and demo: each output on a full disk or behind a directory.
+mkdir -p "$out/sim-full" && ln -s /dev/full "$out/sim-full/sim.fslog"
+expect 2 simulate-full "$bin" simulate --scenario parking --duration 1 --out "$out/sim-full"
+names simulate-full "$out/sim-full/sim.fslog: write failed"
+mkdir -p "$out/eval-dir/eval.json"
+expect 2 eval-dir "$bin" eval --log "$log" --truth "$out/sim/truth.json" --out "$out/eval-dir" \
+  --backend tbb
+names eval-dir "$out/eval-dir/eval.json: cannot create"
+demo() { "$bin" demo --scenario parking --duration 1 --backend tbb --quiet "$@"; }
+mkdir -p "$out/demo-config/config.yaml"
+expect 2 demo-config demo --out "$out/demo-config"
+names demo-config "$out/demo-config/config.yaml: cannot create"
+mkdir -p "$out/demo-full" && ln -s /dev/full "$out/demo-full/polygons.jsonl"
+expect 2 demo-full demo --out "$out/demo-full" --no-video
+names demo-full "$out/demo-full/polygons.jsonl: write failed"
+mkdir -p "$out/demo-avi/demo.avi"
+expect 2 demo-avi demo --out "$out/demo-avi"
+names demo-avi "$out/demo-avi/demo.avi"
+
+# Usage errors exit 2, CLI11's checks included; --help exits 0.
+expect 2 no-log "$bin" run --out "$out/x"
+expect 2 missing-log "$bin" run --log "$out/no-such.log" --out "$out/x"
+names missing-log "no-such.log"
+expect 2 dir-log "$bin" run --log "$out" --out "$out/x"
+expect 2 unknown-option "$bin" run --log "$log" --no-such-option
+expect 2 bad-value "$bin" run --log "$log" --snapshot-every -3
+expect 2 no-command "$bin"
+expect 0 help "$bin" run --help
+
+echo "errors_cli: all cases passed"

@@ -1,0 +1,127 @@
+// What the command-line tools write: the polygons.jsonl line stays valid JSON for any number
+// (docs/formats.md), and checked text files report a failed write naming the file.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <random>
+
+#include "eval/stage_stats.hpp"
+#include "freespace/errors.hpp"
+#include "output/report.hpp"
+#include "output/text_file.hpp"
+
+namespace freespace {
+namespace {
+
+Result SmallResult() {
+  Result r;
+  r.timestamp_s = 12.5;
+  r.status = ScanStatus::kOk;
+  r.pose = {1.25, -2.5, 0.5};
+  r.origin = Vec2(-30.0, -32.0);
+  r.vehicle_cells = Vec2(150.5, 149.25);
+  r.filtered_speed_mps = 3.125;
+  r.polygon_status = PolygonStatus::kOk;
+  r.polygon = {Vec2(0, 0), Vec2(1.5, 0), Vec2(0, 2.25)};
+  return r;
+}
+
+TEST(PolygonJsonLine, KeepsItsFormat) {
+  EXPECT_EQ(
+      PolygonJsonLine(7, SmallResult()),
+      "{\"scan\":7,\"t_s\":12.500000,\"status\":\"ok\",\"frame\":\"world\",\"pose\":{\"x\":"
+      "1.250000,\"y\":-2.500000,\"yaw\":0.500000},\"origin\":[-30.000000,-32.000000],"
+      "\"vehicle_cells\":[150.5000,149.2500],\"speed_mps\":3.125,\"polygon_status\":\"ok\","
+      "\"polygon\":[[0.0000,0.0000],[1.5000,0.0000],[0.0000,2.2500],[0.0000,0.0000]]}");
+}
+
+TEST(PolygonJsonLine, IsValidJsonForExtremeAndNonFiniteNumbers) {
+  Result r = SmallResult();
+  r.timestamp_s = 1e307;
+  r.pose.x = -1.7976931348623157e308;  // the most negative double: 309 digits
+  r.origin = Vec2(-1.84e18, std::nan(""));
+  r.filtered_speed_mps = INFINITY;
+  r.polygon.push_back(Vec2(1e300, -INFINITY));
+  const std::string line = PolygonJsonLine(18446744073709551615ull, r);
+  nlohmann::json doc;
+  ASSERT_NO_THROW(doc = nlohmann::json::parse(line)) << line.substr(0, 400);
+  EXPECT_EQ(doc.at("scan").get<std::uint64_t>(), 18446744073709551615ull);
+  EXPECT_EQ(doc.at("t_s").get<double>(), 1e307);
+  EXPECT_EQ(doc.at("pose").at("x").get<double>(), -1.7976931348623157e308);
+  EXPECT_EQ(doc.at("origin").at(0).get<double>(), -1.84e18);
+  EXPECT_TRUE(doc.at("origin").at(1).is_null());
+  EXPECT_TRUE(doc.at("speed_mps").is_null());
+  EXPECT_EQ(doc.at("polygon").size(), 5u);  // closed: the first vertex again at the end
+  EXPECT_EQ(doc.at("polygon").at(3).at(0).get<double>(), 1e300);
+  EXPECT_TRUE(doc.at("polygon").at(3).at(1).is_null());
+}
+
+TEST(TextFile, AFullDiskIsAnErrorNamingTheFile) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full here";
+  TextFile file("/dev/full");
+  const std::string line(1000, 'x');
+  try {
+    // The stream buffers: the failure shows at a write that flushes, or at the close.
+    for (int i = 0; i < 100; ++i) file.Write(line);
+    file.Close();
+    FAIL() << "writing 100 kB to /dev/full did not fail";
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/full: write failed: No space left on device"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(TextFile, ADirectoryInTheWayIsAnErrorNamingTheFile) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "freespace_output_test_dir";
+  std::filesystem::create_directories(dir);
+  try {
+    WriteTextFile(dir.string(), "{}\n");
+    FAIL() << "writing over a directory did not fail";
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find(dir.string() + ": cannot create"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(CheckWritten(dir.string()), OutputError);
+  std::filesystem::remove_all(dir);
+}
+
+// `freespace run` keeps its stage times in fixed memory: the histogram's quantiles stay within
+// half a bin (0.5 %) of the exact ones over a long, spread-out series.
+TEST(StageHistogram, QuantilesMatchTheExactOnesWithinHalfABin) {
+  std::mt19937 random(7);
+  std::lognormal_distribution<double> times(std::log(800.0), 0.6);
+  StageSeries exact;
+  StageHistogram histogram;
+  for (int i = 0; i < 100000; ++i) {
+    StageTimes t;
+    t.preprocess_us = times(random) / 10;
+    t.align_us = 3.0;
+    t.rasterize_us = times(random);
+    t.fuse_us = times(random) * 2;
+    t.classify_us = times(random);
+    t.mask_us = 0.0;  // a stage that does not run
+    t.insight_us = times(random) / 3;
+    t.polygon_us = times(random) / 50;
+    t.total_us = t.preprocess_us + t.rasterize_us + t.fuse_us + t.classify_us + t.insight_us;
+    exact.Add(t);
+    histogram.Add(t);
+  }
+  EXPECT_EQ(histogram.size(), 100000u);
+  const nlohmann::json a = exact.Summary(), b = histogram.Summary();
+  ASSERT_EQ(a.size(), b.size());
+  for (const auto& [stage, stats] : a.items()) {
+    for (const char* q : {"median", "p99"}) {
+      const double want = stats.at(q).get<double>(), got = b.at(stage).at(q).get<double>();
+      EXPECT_NEAR(got, want, 0.005 * want + 0.01) << stage << " " << q;
+    }
+  }
+  EXPECT_EQ(b.at("mask").at("median").get<double>(), 0.0);
+  EXPECT_NEAR(histogram.MedianTotal(), exact.MedianTotal(), 0.005 * exact.MedianTotal());
+}
+
+}  // namespace
+}  // namespace freespace
