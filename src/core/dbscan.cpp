@@ -64,14 +64,8 @@ void ClutterFilter::Reserve(int n) {
   parent_ = std::make_unique<std::atomic<std::int32_t>[]>(capacity_);
 }
 
-int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::uint8_t>* keep) {
+void ClutterFilter::SortByBin(const std::vector<EchoPoint>& points) {
   const int n = int(points.size());
-  keep->assign(n, 1);
-  if (!config_.enabled || n == 0) return 0;
-  // The crew's helpers may sleep between scans: wake them now, while the sort below runs, and
-  // keep them polling into the backend's stages that follow.
-  if (crew_ != nullptr) crew_->Wake();
-
   // Counting sort by bin; stable, so scan order is kept within a bin.
   std::fill(bin_start_.begin(), bin_start_.end(), 0);
   for (const EchoPoint& p : points) ++bin_start_[p.bin + 1];
@@ -96,6 +90,53 @@ int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::ui
     y_[s] = points[i].y;
     r_[s] = points[i].range;
   }
+}
+
+template <class Body>
+void ClutterFilter::ForEachEcho(int n, const Body& body) {
+  if (crew_ != nullptr) {
+    // Chunks of kGrain echoes (more when there would be more chunks than a round can have).
+    const int grain = std::max(kGrain, (n + Crew::kMaxParts - 1) / Crew::kMaxParts);
+    crew_->Run((n + grain - 1) / grain, [&](int part, int) {
+      const int end = std::min(n, (part + 1) * grain);
+      for (int a = part * grain; a < end; ++a) body(a);
+    });
+    return;
+  }
+  arena_.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, n, kGrain),
+                      [&](const tbb::blocked_range<int>& range) {
+                        for (int a = range.begin(); a != range.end(); ++a) body(a);
+                      });
+  });
+}
+
+int ClutterFilter::KeepClustered(int n, std::vector<std::uint8_t>* keep) {
+  const int big = config_.min_cluster_size, large = n;
+  size_.assign(n + 1, 0);
+  for (int a = 0; a < n; ++a) {
+    if (cluster_[a] >= 0) ++size_[cluster_[a]];
+  }
+  const int large_root = Find(large);
+  int clutter = 0;
+  for (int a = 0; a < n; ++a) {
+    const int c = cluster_[a] < 0 ? -1 : Find(cluster_[a]);
+    const bool ok = c >= 0 && (c == large_root || size_[c] >= big);
+    (*keep)[order_[a]] = ok ? 1 : 0;
+    clutter += ok ? 0 : 1;
+  }
+  return clutter;
+}
+
+int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::uint8_t>* keep) {
+  const int n = int(points.size());
+  keep->assign(n, 1);
+  if (!config_.enabled || n == 0) return 0;
+  // The crew's helpers may sleep between scans: wake them now, while the sort below runs, and
+  // keep them polling into the backend's stages that follow.
+  if (crew_ != nullptr) crew_->Wake();
+
+  SortByBin(points);
   parent_[n].store(n, std::memory_order_relaxed);
 
   const float eps = float(config_.eps_m), k = float(config_.eps_per_m);
@@ -107,31 +148,13 @@ int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::ui
     const float dx = x[a] - x[b], dy = y[a] - y[b];
     return dx * dx + dy * dy <= e * e;
   };
-  auto parallel = [&](auto&& body) {
-    if (crew_ != nullptr) {
-      // Chunks of kGrain echoes (more when there would be more chunks than a round can have).
-      const int grain = std::max(kGrain, (n + Crew::kMaxParts - 1) / Crew::kMaxParts);
-      crew_->Run((n + grain - 1) / grain, [&](int part, int) {
-        const int end = std::min(n, (part + 1) * grain);
-        for (int a = part * grain; a < end; ++a) body(a);
-      });
-      return;
-    }
-    arena_.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<int>(0, n, kGrain),
-                        [&](const tbb::blocked_range<int>& range) {
-                          for (int a = range.begin(); a != range.end(); ++a) body(a);
-                        });
-    });
-  };
-
   // Each echo's window, then core points, searching outwards from each echo: in dense places
   // the first few candidates decide. The first min_cluster_size - 1 neighbours found are kept for
   // the next pass.
   const int min_points = config_.min_points, big = config_.min_cluster_size;
   const int wanted = std::max(min_points - 1, std::min(big - 1, kMaxRecorded));
   const std::int32_t* bin_start = bin_start_.data();
-  parallel([&](int a) {
+  ForEachEcho(n, [&](int a) {
     // Bin window of the echo (see the file comment): [first_, last_) in sorted order.
     const double s = config_.eps_m / std::max(double(r[a]), 1e-6) + config_.eps_per_m;
     // asin(s) <= 1.05 s for s <= 0.5; the exact asin only for echoes near the sensor.
@@ -159,7 +182,7 @@ int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::ui
   // leaves it to the few echoes at cluster edges, in small clusters and in noise. (Only the
   // neighbours found above are looked at: missing a sure echo costs time, never correctness.)
   const std::uint8_t* core = core_.data();
-  parallel([&](int a) {
+  ForEachEcho(n, [&](int a) {
     sure_[a] = 0;
     if (!core[a] || big - 1 > kMaxRecorded) return;
     const std::int32_t* found = found_.data() + std::size_t(a) * kMaxRecorded;
@@ -172,7 +195,7 @@ int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::ui
   // the cluster node `n` that stands for every large cluster.
   const int large = n;
   const std::uint8_t* sure = sure_.data();
-  parallel([&](int a) {
+  ForEachEcho(n, [&](int a) {
     if (!core[a] || sure[a]) return;
     for (int b = first_[a]; b < last_[a]; ++b) {
       if (b == a || !core[b] || !near(a, b)) continue;
@@ -182,7 +205,7 @@ int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::ui
 
   // Cluster of every echo: a sure echo's is the large node; another core echo's its root; a
   // border echo takes its first core neighbour's in scan order.
-  parallel([&](int a) {
+  ForEachEcho(n, [&](int a) {
     if (core[a]) {
       cluster_[a] = sure[a] ? large : Find(a);
       return;
@@ -196,19 +219,7 @@ int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::ui
     }
   });
 
-  size_.assign(n + 1, 0);
-  for (int a = 0; a < n; ++a) {
-    if (cluster_[a] >= 0) ++size_[cluster_[a]];
-  }
-  const int large_root = Find(large);
-  int clutter = 0;
-  for (int a = 0; a < n; ++a) {
-    const int c = cluster_[a] < 0 ? -1 : Find(cluster_[a]);
-    const bool ok = c >= 0 && (c == large_root || size_[c] >= big);
-    (*keep)[order_[a]] = ok ? 1 : 0;
-    clutter += ok ? 0 : 1;
-  }
-  return clutter;
+  return KeepClustered(n, keep);
 }
 
 }  // namespace freespace

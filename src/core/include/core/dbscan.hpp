@@ -42,6 +42,14 @@ class ClutterFilter {
   int Find(int a) const;
   void Unite(int a, int b);
   void Reserve(int n);
+  // Sorts the echoes by bin (stable) into x_, y_, r_ and order_, and sizes the per-echo arrays.
+  void SortByBin(const std::vector<EchoPoint>& points);
+  // body(a) for every sorted echo a of n, on the crew or in the arena.
+  template <class Body>
+  void ForEachEcho(int n, const Body& body);
+  // keep[i] for every echo from its cluster (a large one, or one of min_cluster_size or more);
+  // returns the clutter count.
+  int KeepClustered(int n, std::vector<std::uint8_t>* keep);
 
   ClutterConfig config_;
   int bins_;
