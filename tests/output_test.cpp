@@ -29,12 +29,11 @@ Result SmallResult() {
 }
 
 TEST(PolygonJsonLine, KeepsItsFormat) {
-  EXPECT_EQ(
-      PolygonJsonLine(7, SmallResult()),
-      "{\"scan\":7,\"t_s\":12.500000,\"status\":\"ok\",\"frame\":\"world\",\"pose\":{\"x\":"
-      "1.250000,\"y\":-2.500000,\"yaw\":0.500000},\"origin\":[-30.000000,-32.000000],"
-      "\"vehicle_cells\":[150.5000,149.2500],\"speed_mps\":3.125,\"polygon_status\":\"ok\","
-      "\"polygon\":[[0.0000,0.0000],[1.5000,0.0000],[0.0000,2.2500],[0.0000,0.0000]]}");
+  EXPECT_EQ(PolygonJsonLine(7, SmallResult()),
+            "{\"scan\":7,\"t_s\":12.500000,\"status\":\"ok\",\"frame\":\"world\",\"pose\":{\"x\":"
+            "1.250000,\"y\":-2.500000,\"yaw\":0.500000},\"origin\":[-30.000000,-32.000000],"
+            "\"vehicle_cells\":[150.5000,149.2500],\"speed_mps\":3.125,\"polygon_status\":\"ok\","
+            "\"polygon\":[[0.0000,0.0000],[1.5000,0.0000],[0.0000,2.2500],[0.0000,0.0000]]}");
 }
 
 TEST(PolygonJsonLine, IsValidJsonForExtremeAndNonFiniteNumbers) {

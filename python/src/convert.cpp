@@ -1,14 +1,14 @@
 // Conversions between the engine's values and Python objects: see convert.hpp.
 #include "convert.hpp"
 
-#include "freespace/errors.hpp"
-
 #include <yaml-cpp/yaml.h>
 
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+
+#include "freespace/errors.hpp"
 
 namespace freespace::python {
 namespace {

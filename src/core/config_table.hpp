@@ -187,7 +187,8 @@ void VisitPolygon(C& p, Visitor& v) {
   v("max_vertices", p.max_vertices, {"", Closed(3, 4096), "N: most vertices of the polygon"});
   v("epsilon_m", p.epsilon_m, {"m", AtLeast(0), "Douglas-Peucker tolerance"});
   v("margin_cells", p.margin_cells,
-    {"cells", Closed(0, 32), "safety margin in front of occupied and unknown cells (not in the paper; 0 = none)"});
+    {"cells", Closed(0, 32),
+     "safety margin in front of occupied and unknown cells (not in the paper; 0 = none)"});
   v("margin_cone_deg", p.margin_cone_deg,
     {"deg", OpenClosed(0, 180), "the margin's cone around the line of sight (180: all around)"});
 }

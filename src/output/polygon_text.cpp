@@ -21,6 +21,16 @@ void AppendJsonNumber(std::string* text, double v, int decimals) {
   text->append(buffer, std::size_t(n));
 }
 
+void AppendJsonPose(std::string* text, double x, double y, double yaw) {
+  *text += "{\"x\":";
+  AppendJsonNumber(text, x, 6);
+  *text += ",\"y\":";
+  AppendJsonNumber(text, y, 6);
+  *text += ",\"yaw\":";
+  AppendJsonNumber(text, yaw, 6);
+  *text += '}';
+}
+
 std::vector<Vec2> ClosedCcwRing(const std::vector<Vec2>& polygon) {
   std::vector<Vec2> ring = polygon;
   if (ring.empty()) return ring;
@@ -62,13 +72,9 @@ std::string PolygonGeoJsonLine(const Result& r) {
   line += ",\"properties\":{\"scan\":" + std::to_string(r.scan_index) + ",\"t_s\":";
   AppendJsonNumber(&line, r.timestamp_s, 6);
   line += std::string(",\"status\":\"") + ToString(r.status) + "\",\"polygon_status\":\"" +
-          ToString(r.polygon_status) + "\",\"frame\":\"" + kPolygonFrame + "\",\"pose\":{\"x\":";
-  AppendJsonNumber(&line, r.pose.x, 6);
-  line += ",\"y\":";
-  AppendJsonNumber(&line, r.pose.y, 6);
-  line += ",\"yaw\":";
-  AppendJsonNumber(&line, r.pose.yaw, 6);
-  line += "},\"speed_mps\":";
+          ToString(r.polygon_status) + "\",\"frame\":\"" + kPolygonFrame + "\",\"pose\":";
+  AppendJsonPose(&line, r.pose.x, r.pose.y, r.pose.yaw);
+  line += ",\"speed_mps\":";
   AppendJsonNumber(&line, r.filtered_speed_mps, 3);
   line += "}}";
   return line;

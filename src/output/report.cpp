@@ -12,13 +12,9 @@ std::string PolygonJsonLine(std::uint64_t scan, const Result& r) {
   line += "{\"scan\":" + std::to_string(scan) + ",\"t_s\":";
   AppendJsonNumber(&line, r.timestamp_s, 6);
   line += std::string(",\"status\":\"") + ToString(r.status) + "\",\"frame\":\"" + kPolygonFrame +
-          "\",\"pose\":{\"x\":";
-  AppendJsonNumber(&line, r.pose.x, 6);
-  line += ",\"y\":";
-  AppendJsonNumber(&line, r.pose.y, 6);
-  line += ",\"yaw\":";
-  AppendJsonNumber(&line, r.pose.yaw, 6);
-  line += "},\"origin\":[";
+          "\",\"pose\":";
+  AppendJsonPose(&line, r.pose.x, r.pose.y, r.pose.yaw);
+  line += ",\"origin\":[";
   AppendJsonNumber(&line, r.origin.x(), 6);
   line += ',';
   AppendJsonNumber(&line, r.origin.y(), 6);

@@ -161,7 +161,7 @@ struct BenchReport {
   CoverageStats coverage;
   std::optional<TruthQuality> enhanced_quality, conventional_quality;  // on a simulated drive
 
-  AlignmentComparison alignment;          // circle vs rotate, TBB
+  AlignmentComparison alignment;  // circle vs rotate, TBB
   // The paper's polygon against the conservative one (the config's margin, or the road setup's
   // one-cell margin in a 45 deg cone when the config has none), same scans, TBB.
   PipelineRun paper_shape, inside_shape;

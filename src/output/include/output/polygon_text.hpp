@@ -17,6 +17,9 @@ inline constexpr const char* kPolygonFrame = "world";
 // or infinity). Any finite double fits in fixed notation, so no number is ever cut.
 void AppendJsonNumber(std::string* text, double v, int decimals);
 
+// Appends {"x":..,"y":..,"yaw":..} with 6 decimals (AppendJsonNumber).
+void AppendJsonPose(std::string* text, double x, double y, double yaw);
+
 // `polygon` as a closed ring: counter-clockwise (reversed when its signed area is negative),
 // the first vertex repeated at the end. Empty for an empty polygon.
 std::vector<Vec2> ClosedCcwRing(const std::vector<Vec2>& polygon);
