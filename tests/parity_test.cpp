@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "sim/rig.hpp"
 #include "sim/simulator.hpp"
 #include "test_util.hpp"
 
@@ -38,11 +39,27 @@ void MakePair(Config config, std::unique_ptr<Estimator>* tbb, std::unique_ptr<Es
 
 // Processes `scan` on both and compares everything; returns false (with a gtest failure naming
 // the scan and the first difference) when they differ.
+bool CompareBoth(Estimator& tbb, Estimator& opencl, const Result& a, const Result& b,
+                 const std::string& what);
+
 bool ProcessBoth(Estimator& tbb, Estimator& opencl, const Scan& scan, const std::string& what,
                  const Result** opencl_result = nullptr) {
   const Result& a = tbb.Process(scan);
   const Result& b = opencl.Process(scan);
   if (opencl_result) *opencl_result = &b;
+  return CompareBoth(tbb, opencl, a, b, what);
+}
+
+// A rig's cycle on both, compared as ProcessBoth compares a scan.
+bool ProcessCycleBoth(Estimator& tbb, Estimator& opencl, const std::vector<Scan>& cycle,
+                      const std::string& what) {
+  const Result& a = tbb.ProcessCycle(cycle);
+  const Result& b = opencl.ProcessCycle(cycle);
+  return CompareBoth(tbb, opencl, a, b, what);
+}
+
+bool CompareBoth(Estimator& tbb, Estimator& opencl, const Result& a, const Result& b,
+                 const std::string& what) {
   const std::string where = what + " scan " + std::to_string(a.scan_index);
   const bool same_result = a.status == b.status && a.origin_cell_x == b.origin_cell_x &&
                            a.origin_cell_y == b.origin_cell_y && a.vehicle_cell == b.vehicle_cell &&
@@ -221,6 +238,26 @@ TEST(Parity, SimulatedHighwayRoadSetup) {
     for (int k = 0; k < (cells == 300 ? 250 : 60) && simulation.Next(&scan); ++k) {
       ASSERT_TRUE(ProcessBoth(*tbb, *opencl, scan, "highway " + std::to_string(cells)));
     }
+  }
+}
+
+// The surround rig (four scanners, each scan fused from its own corner, the footprint, the
+// border rays from the reference point) with the road setup, on a parking drive: the same on
+// both backends after every cycle.
+TEST(Parity, SimulatedSurroundRigRoadSetup) {
+  sim::SimulationOptions options;
+  options.scenario = "parking";
+  options.seed = 5;
+  options.rig = "surround";
+  sim::Simulation simulation(options);
+  const Config config = sim::WithRig(test::LoadProjectConfig("scala.yaml"), simulation.rig());
+  std::unique_ptr<Estimator> tbb, opencl;
+  std::string skip;
+  MakePair(config, &tbb, &opencl, &skip);
+  if (!opencl) GTEST_SKIP() << skip;
+  std::vector<Scan> cycle;
+  for (int k = 0; k < 200 && simulation.NextCycle(&cycle); ++k) {
+    ASSERT_TRUE(ProcessCycleBoth(*tbb, *opencl, cycle, "surround parking"));
   }
 }
 

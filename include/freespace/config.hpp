@@ -17,6 +17,7 @@ struct MapConfig {
 
 // The laser scanner (defaults: Valeo ScaLa, paper section V.A).
 struct SensorConfig {
+  std::string name = "front";            // names the sensor in a rig (Config::sensors)
   int layers = 4;                        // points with layer >= layers are dropped; 1 .. 255
   double min_angle_deg = -72.5;          // horizontal aperture, sensor frame, CCW
   double max_angle_deg = 72.5;           // (min_angle, min_angle + 360]
@@ -108,6 +109,22 @@ struct PolygonConfig {
   double margin_cone_deg = 180.0;
 };
 
+// The vehicle around a rig of several sensors (Config::sensors). With one `sensor` the
+// estimator's reference point is that sensor's origin, as in the paper; with a rig it is this
+// point of the vehicle frame: the vehicle on a circle, the border rays and the polygon's star
+// centre. The footprint, a rectangle of the vehicle's size centred on the reference point and
+// turned with the vehicle, is fused as free in every cycle: the vehicle stands there, and no
+// scanner of a surround rig sees under it.
+struct RigConfig {
+  double reference_x_m = 0.0;  // the reference point in the vehicle (odometry) frame
+  double reference_y_m = 0.0;
+  double footprint_length_m = 0.0;  // 0: no footprint
+  double footprint_width_m = 0.0;
+};
+
+// The most sensors of a rig.
+inline constexpr int kMaxSensors = 16;
+
 enum class BackendKind { kTbb, kOpenCl, kAuto };
 
 // How the host waits for a scan's result from an OpenCL device (docs/opencl.md): blocking
@@ -133,6 +150,10 @@ struct BackendConfig {
 struct Config {
   MapConfig map;
   SensorConfig sensor;
+  // Several sensors on one vehicle (docs/design.md, "A rig of sensors"): when not empty, the
+  // rig, and `sensor` is not used; each Scan names its sensor by index into this list.
+  std::vector<SensorConfig> sensors;
+  RigConfig rig;
   ClutterConfig clutter;
   SensorModelConfig sensor_model;
   AlignmentConfig alignment;
@@ -140,8 +161,14 @@ struct Config {
   PolygonConfig polygon;
   BackendConfig backend;
 
-  // Throws ConfigError naming the first invalid field and its value.
+  // Throws ConfigError naming the first invalid field and its value (a rig's sensor as
+  // sensors[name].field).
   void Validate() const;
+
+  // The sensors scans come from: `sensors`, or `sensor` alone.
+  bool is_rig() const { return !sensors.empty(); }
+  int sensor_count() const { return is_rig() ? int(sensors.size()) : 1; }
+  const SensorConfig& sensor_at(int i) const { return is_rig() ? sensors[i] : sensor; }
 
   // Reads a YAML document whose top-level keys are the section names above (map, sensor, ...)
   // and whose fields are the member names; missing fields keep their defaults, unknown keys

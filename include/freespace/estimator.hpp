@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "freespace/config.hpp"
 #include "freespace/result.hpp"
@@ -23,6 +24,19 @@ class Estimator {
   // Processes one full scan. Never throws for bad scan content: a bad scan is rejected or
   // partly used, and the Result says so. The reference stays valid until the next call.
   const Result& Process(const Scan& scan);
+
+  // Processes one cycle of a rig (Config::sensors): at most one scan per sensor, each taken at
+  // its own time and pose. Each scan is filtered and fused from its own sensor's pose, one after
+  // the other in the rig's order, each updating a cell at most once; then the map is
+  // classified and the polygon extracted once, around the rig's reference point at the newest
+  // scan's pose (docs/design.md, "A rig of sensors"). With a single sensor a cycle is one scan.
+  // Never throws for bad content: an empty cycle, a sensor index outside the rig or a sensor
+  // twice rejects the cycle (kBadCycle), as does any scan that Process() would reject for its
+  // timestamp or pose.
+  const Result& ProcessCycle(const Scan* scans, int count);
+  const Result& ProcessCycle(const std::vector<Scan>& scans) {
+    return ProcessCycle(scans.data(), int(scans.size()));
+  }
 
   // Clears the map and the alignment state; the next scan starts a new map.
   void Reset();

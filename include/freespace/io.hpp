@@ -50,6 +50,13 @@ class LogReader {
   virtual double progress() const = 0;
   // The sensor geometry the log implies (layers, aperture, resolution, max range, mount).
   const SensorConfig& sensor() const { return sensor_; }
+  // Every sensor the log holds scans of (a rig: Scan::sensor indexes this list); one for a
+  // log of one sensor.
+  std::vector<SensorConfig> sensors() const {
+    return rig_.empty() ? std::vector<SensorConfig>{sensor_} : rig_;
+  }
+  // A rig's reference point and footprint when the log gives them (else the defaults).
+  const RigConfig& rig() const { return rig_vehicle_; }
   const std::string& path() const { return path_; }
 
   // Issues found since the last call.
@@ -62,6 +69,8 @@ class LogReader {
   std::string path_;
   LogFormat format_;
   SensorConfig sensor_;
+  std::vector<SensorConfig> rig_;  // several sensors, the first also in sensor_; else empty
+  RigConfig rig_vehicle_;
 
  private:
   std::vector<LogIssue> issues_;
@@ -73,18 +82,46 @@ std::unique_ptr<LogReader> OpenLog(const std::string& path, const LogOptions& op
 
 const char* ToString(LogFormat format);
 
-// Writes the project's own multi-layer log format (docs/formats.md).
+// Groups a log's scans into the cycles of a rig (Estimator::ProcessCycle): consecutive scans
+// form one cycle until the next scan's sensor is already in it or every sensor of the rig has
+// a scan in it. A log of one sensor gives one scan a cycle.
+class CycleReader {
+ public:
+  // `reader` must outlive this; `sensors` is the rig's size (>= 1).
+  CycleReader(LogReader& reader, int sensors) : reader_(reader), sensors_(sensors) {}
+  // The next cycle into `cycle` (at least one scan); false at the end of the log.
+  bool Next(std::vector<Scan>* cycle);
+  // The log line where the cycle's first scan started.
+  std::size_t line() const { return line_; }
+
+ private:
+  LogReader& reader_;
+  int sensors_;
+  Scan pending_;
+  bool has_pending_ = false;
+  std::size_t pending_line_ = 0;
+  std::size_t line_ = 0;
+};
+
+// Writes the project's own multi-layer log format (docs/formats.md): version 1 for one sensor,
+// version 2 (named sensors, a sensor index per scan) for a rig.
 class NativeLogWriter {
  public:
   // Throws OutputError when the file cannot be created; Write and Close throw it when a write
   // fails.
   NativeLogWriter(const std::string& path, const SensorConfig& sensor);
+  // A rig's log with its reference point and footprint; one sensor writes version 1. Throws
+  // std::invalid_argument for no sensor.
+  NativeLogWriter(const std::string& path, const std::vector<SensorConfig>& sensors,
+                  const RigConfig& rig = {});
   void Write(const Scan& scan);
   void Close();
 
  private:
   std::string path_;
   std::ofstream out_;
+  int version_ = 1;
+  int sensors_ = 1;
 };
 
 // Writes scans as CARMEN ROBOTLASER1 lines, one line per layer with the scan's timestamp,

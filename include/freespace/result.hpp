@@ -25,6 +25,8 @@ enum class RejectReason {
   kTimestampOutOfRange,  // |t| > kMaxTimestampS (freespace/scan.hpp)
   kPoseOutOfRange,       // |x| or |y| > kMaxCoordinateM, or a map shift no integer can hold
   kPoseJump,             // moved farther than max_speed_mps * dt + jump_slack_m since the last scan
+  kBadCycle,             // a rig's cycle with no scan, a sensor index not in the rig, or one
+                         // sensor twice (Estimator::ProcessCycle)
 };
 
 // What became of the free-space polygon of a scan.
@@ -76,8 +78,10 @@ struct Result {
                                   // one time): used without a jump test or a speed sample
   bool stall_detected = false;    // this scan found the stall; `message` says so
 
-  Pose2D pose;           // the vehicle pose given with the scan
-  Pose2D sensor_pose;    // the sensor's world pose (pose composed with the mount)
+  Pose2D pose;           // the vehicle pose given with the scan (a rig: the newest scan's)
+  Pose2D sensor_pose;    // the sensor's world pose (pose composed with the mount); with a rig,
+                         // the reference point's (rig.reference_*), which stands for the sensor
+                         // in the fields below
   Vec2 vehicle_cells;    // sensor position in the map, cells, fractional (eqs. 6, 7)
   double yaw = 0.0;      // sensor yaw in the map (eq. 2), radians
   double map_yaw = 0.0;  // rotation of the map's axes from the world's: 0 with the circle
@@ -102,8 +106,12 @@ struct Result {
   double simplification_error_m = 0.0;  // largest distance of a dropped ring vertex
   bool polygon_contains_vehicle = false;
 
-  ScanStats stats;
-  StageTimes times;
+  ScanStats stats;   // a rig's cycle: summed over its scans
+  StageTimes times;  // a rig's cycle: rasterize and fuse summed over its scans
+  // A rig's cycle (Estimator::ProcessCycle): its scans' sensor indices and world sensor poses,
+  // in the order fused (the rig's order). One entry for a single sensor.
+  std::vector<int> cycle_sensors;
+  std::vector<Pose2D> cycle_sensor_poses;
 };
 
 // A read-only view of the map as of the last Process(). Pointers stay valid until the next

@@ -19,11 +19,13 @@ struct ScanPoint {
 
 // A full scan: every layer's beams, the time it was taken and the vehicle's odometry pose in
 // world coordinates at that time. The sensor pose is this pose composed with the configured
-// mount offset (sensor.mount_*).
+// mount offset (sensor.mount_*, or the mount of its sensor in a rig).
 struct Scan {
   double timestamp_s = 0.0;  // |t| <= kMaxTimestampS, else the scan is rejected
   Pose2D pose;               // |x|, |y| <= kMaxCoordinateM, else the scan is rejected
   std::vector<ScanPoint> points;
+  // Which sensor of a rig took it (index into Config::sensors); 0 for a single sensor.
+  int sensor = 0;
 };
 
 // The largest timestamp magnitude the estimator takes (s): Unix time in seconds until the

@@ -88,6 +88,70 @@ void WritePlots(const BenchReport& report, const std::string& out) {
       Plotted(GroupScalePoints(s.points, true)));
 }
 
+// --rig R with --scenario: the pipeline per cycle of rig R against the front rig's single
+// scanner, the same drive, per backend, in one run: the medians, their ratio, OUT/bench.json.
+std::vector<std::vector<Scan>> SimulateCycles(sim::SimulationOptions options, int limit,
+                                              sim::Rig* rig) {
+  sim::Simulation simulation(options);
+  std::vector<std::vector<Scan>> cycles;
+  std::vector<Scan> cycle;
+  while ((limit <= 0 || int(cycles.size()) < limit) && simulation.NextCycle(&cycle)) {
+    cycles.push_back(cycle);
+  }
+  *rig = simulation.rig();
+  return cycles;
+}
+
+int RunRig(const BenchCommandOptions& options) {
+  nlohmann::json runs = nlohmann::json::array();
+  std::printf("%-8s %-10s %8s %10s %10s %12s %12s\n", "backend", "rig", "cycles", "median_us",
+              "p99_us", "preprocess", "update");
+  try {
+    MakeDirectories(options.out);
+    const BenchOptions suite = SuiteOptions(options);
+    for (const BackendKind kind : suite.backends) {
+      double front_median = 0.0;
+      for (const std::string& name : {std::string("front"), options.sim.rig}) {
+        sim::SimulationOptions sim = MakeSimulationOptions(options.sim);
+        sim.rig = name;
+        sim::Rig rig;
+        const std::vector<std::vector<Scan>> cycles = SimulateCycles(sim, options.scans, &rig);
+        Config config = sim::WithRig(LoadEngineConfig(options.engine, nullptr), rig);
+        config.backend.kind = kind;
+        const PipelineRun run = TimeCycles(config, cycles, options.warmup);
+        const double median = run.times.Quantile("total", 0.5);
+        if (name == "front") front_median = median;
+        std::printf("%-8s %-10s %8d %10.1f %10.1f %12.1f %12.1f\n", ToString(kind), name.c_str(),
+                    run.scans, median, run.times.Quantile("total", 0.99),
+                    run.times.Quantile("preprocess", 0.5),
+                    run.times.Quantile("rasterize", 0.5) + run.times.Quantile("fuse", 0.5));
+        nlohmann::json j = run.ToJson();
+        j["rig"] = name;
+        j["sensors"] = rig.scanners.size();
+        if (name != "front" && front_median > 0) j["ratio_to_front"] = median / front_median;
+        runs.push_back(j);
+      }
+    }
+    const nlohmann::json json = {{"scenario", options.sim.scenario},
+                                 {"seed", options.sim.seed},
+                                 {"warmup", options.warmup},
+                                 {"rig_runs", runs}};
+    WriteJson(options.out + "/" + kBenchJsonFile, json);
+  } catch (const std::exception& e) {
+    std::cerr << "freespace bench: " << e.what() << "\n";
+    return kExitSetup;
+  }
+  for (const nlohmann::json& j : runs) {
+    if (j.contains("ratio_to_front")) {
+      std::printf("%s: %s cycle / front scan, medians: %.2f\n",
+                  j.at("backend").get<std::string>().c_str(),
+                  j.at("rig").get<std::string>().c_str(), j.at("ratio_to_front").get<double>());
+    }
+  }
+  std::printf("\nWrote %s/%s\n", options.out.c_str(), kBenchJsonFile);
+  return kExitOk;
+}
+
 int Run(const BenchCommandOptions& options) {
   Config config;
   BenchSource source;
@@ -160,6 +224,14 @@ Command AddBenchCommand(CLI::App& app) {
             if (options->log.empty() && !options->scenario) {
               std::cerr << "freespace bench: give --log FILE or --scenario NAME\n";
               return kExitSetup;
+            }
+            if (options->sim.rig != "front") {
+              if (!options->scenario || options->scaling) {
+                std::cerr << "freespace bench: --rig times a simulated drive (--scenario), "
+                             "without --scaling\n";
+                return kExitSetup;
+              }
+              return RunRig(*options);
             }
             return Run(*options);
           }};

@@ -101,9 +101,17 @@ class DemoRun {
     try {
       simulation_ = std::make_unique<sim::Simulation>(MakeSimulationOptions(options_.sim));
       MakeDirectories(options_.out);
-      writer_ = std::make_unique<sim::SimulationWriter>(options_.out, truth().scanner);
-      const SensorConfig sensor = truth().scanner.EngineSensor();
-      config_ = LoadEngineConfig(options_.engine, &sensor, RoadConfig());
+      writer_ = std::make_unique<sim::SimulationWriter>(options_.out, truth().rig);
+      const Config rig = sim::WithRig(Config(), truth().rig);
+      LogSensors sensors;
+      sensors.sensors = rig.is_rig() ? rig.sensors : std::vector<SensorConfig>{rig.sensor};
+      sensors.rig = rig.rig;
+      config_ = LoadEngineConfig(options_.engine, sensors, RoadConfig());
+      if (config_.sensor_count() != int(truth().rig.scanners.size())) {
+        throw ConfigError("config: the drive's rig '" + truth().rig.name + "' has " +
+                          std::to_string(truth().rig.scanners.size()) + " scanners, the config " +
+                          std::to_string(config_.sensor_count()) + " sensors");
+      }
       estimator_ = std::make_unique<Estimator>(config_);
       WriteTextFile(options_.out + "/config.yaml", config_.ToYaml());
       polygons_ = std::make_unique<TextFile>(options_.out + "/polygons.jsonl");
@@ -120,8 +128,8 @@ class DemoRun {
   void PrintSetup() const {
     const sim::Scenario& scenario = simulation_->scenario();
     const std::size_t total = simulation_->scan_count();
-    std::cout << "freespace demo: " << scenario.name << " (seed " << options_.sim.seed
-              << "): " << scenario.description << "\n"
+    std::cout << "freespace demo: " << scenario.name << " (seed " << options_.sim.seed << ", rig "
+              << truth().rig.name << "): " << scenario.description << "\n"
               << "freespace demo: " << total << " scans over "
               << double(total - 1) * truth().scanner.scan_period_s << " s, odometry "
               << options_.sim.odometry_noise << "; backend " << estimator_->backend_name()
@@ -131,16 +139,17 @@ class DemoRun {
 
   // Simulates, estimates, scores and draws every scan of the drive, then closes its files.
   void Drive() {
-    Scan scan;
+    std::vector<Scan> cycle;
     std::vector<sim::EchoSource> sources;
     for (std::size_t index = 0;; ++index) {
       const Clock::time_point t0 = Clock::now();
-      if (!simulation_->Next(&scan, &sources)) break;
+      sources.clear();
+      if (!simulation_->NextCycle(&cycle, &sources)) break;
       simulate_us_.push_back(Micros(t0, Clock::now()));
       echoes_.Add(sources);
-      writer_->Write(scan);
+      for (const Scan& scan : cycle) writer_->Write(scan);
 
-      const Result& r = estimator_->Process(scan);
+      const Result& r = estimator_->ProcessCycle(cycle);
       if (r.status == ScanStatus::kRejected) {
         ++rejected_;
         std::cerr << "freespace demo: scan " << index << " rejected: " << r.message << "\n";
@@ -154,7 +163,7 @@ class DemoRun {
       const Clock::time_point t3 = Clock::now();
       score_us_.push_back(Micros(t2, t3));
       metrics_.Add(m);
-      const bool drawn = Draw(index, map, r, m);
+      const bool drawn = Draw(index, map, r, m, cycle);
       const Clock::time_point t4 = Clock::now();
       if (drawn) render_us_.push_back(Micros(t3, t4));
       PrintProgress(index, t4);
@@ -171,7 +180,8 @@ class DemoRun {
 
   // A video frame every --video-every scans, a snapshot every --snapshot-every and of the last
   // scan: the map, the polygon, the vehicle and the true outlines. True when one was drawn.
-  bool Draw(std::size_t index, const MapView& map, const Result& r, const ScanMetrics& m) {
+  bool Draw(std::size_t index, const MapView& map, const Result& r, const ScanMetrics& m,
+            const std::vector<Scan>& cycle) {
     const bool last = index + 1 == simulation_->scan_count();
     const bool frame = !options_.no_video && index % options_.video_every == 0;
     const bool snapshot =
@@ -181,8 +191,10 @@ class DemoRun {
                       config_.map.height_cells * config_.map.resolution_m);
     const std::vector<std::vector<Vec2>> outlines =
         scorer_->Outlines(index, map.origin, map.origin + extent);
+    const std::vector<ScannerRays> rays = CycleRays(cycle, r, 6);
     SnapshotOverlay overlay;
     overlay.truth = &outlines;
+    overlay.rays = &rays;
     char caption[200];
     std::snprintf(caption, sizeof caption,
                   "%s  t %.2f s  %.0f km/h  accuracy %.3f  intrusion %.2f m2  coverage %.2f",
@@ -244,8 +256,9 @@ class DemoRun {
     std::cout << "freespace demo: quality over " << metrics_.size()
               << " scans (docs/metrics.md):\n";
     PrintQuality(std::cout, report.at("summary"));
-    std::cout << "freespace demo: wrote " << options_.out << "/: sim.fslog, sim.clf, truth.json, "
-              << "config.yaml, polygons.jsonl, eval.json, "
+    std::cout << "freespace demo: wrote " << options_.out << "/: sim.fslog, "
+              << (writer_->writes_carmen() ? "sim.clf, " : "")
+              << "truth.json, config.yaml, polygons.jsonl, eval.json, "
               << (frames_ > 0 ? "demo.avi (" + std::to_string(frames_) + " frames), " : "")
               << snapshots_ << " snapshot PNG(s); " << seconds << " s in all\n";
     return kExitOk;

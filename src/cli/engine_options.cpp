@@ -31,19 +31,29 @@ void AddEngineOptions(CLI::App* command, EngineOptions* options) {
       ->check(CLI::Range(1, 16));
 }
 
-Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_sensor,
-                        const Config& base) {
+namespace {
+
+Config Load(const EngineOptions& options, const LogSensors* log, const Config& base) {
   Config config = base;
-  bool has_sensor = false;
+  bool has_sensor = false, has_rig = false;
   if (!options.config_path.empty()) {
     std::ifstream in(options.config_path);
     if (!in) throw ConfigError("config: cannot open '" + options.config_path + "'");
     std::stringstream text;
     text << in.rdbuf();
     config = Config::FromYaml(text.str(), options.config_path);
-    for (const std::string& s : YamlSections(text.str())) has_sensor |= (s == "sensor");
+    for (const std::string& s : YamlSections(text.str())) {
+      has_sensor |= (s == "sensor" || s == "sensors");
+      has_rig |= (s == "rig");
+    }
   }
-  if (!has_sensor && log_sensor != nullptr) config.sensor = *log_sensor;
+  if (!has_sensor && log != nullptr && log->sensors.size() == 1) {
+    config.sensor = log->sensors.front();
+    config.sensors.clear();
+  } else if (!has_sensor && log != nullptr && log->sensors.size() > 1) {
+    config.sensors = log->sensors;
+    if (!has_rig) config.rig = log->rig;
+  }
   if (options.backend == "tbb") config.backend.kind = BackendKind::kTbb;
   if (options.backend == "opencl") config.backend.kind = BackendKind::kOpenCl;
   if (options.backend == "auto") config.backend.kind = BackendKind::kAuto;
@@ -56,6 +66,20 @@ Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_se
   return config;
 }
 
+}  // namespace
+
+Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_sensor,
+                        const Config& base) {
+  if (log_sensor == nullptr) return Load(options, nullptr, base);
+  LogSensors log;
+  log.sensors.push_back(*log_sensor);
+  return Load(options, &log, base);
+}
+
+Config LoadEngineConfig(const EngineOptions& options, const LogSensors& log, const Config& base) {
+  return Load(options, &log, base);
+}
+
 bool ConfigSetsSensor(const EngineOptions& options) {
   if (options.config_path.empty()) return false;
   std::ifstream in(options.config_path);
@@ -63,7 +87,7 @@ bool ConfigSetsSensor(const EngineOptions& options) {
   std::stringstream text;
   text << in.rdbuf();
   for (const std::string& s : YamlSections(text.str())) {
-    if (s == "sensor") return true;
+    if (s == "sensor" || s == "sensors") return true;
   }
   return false;
 }

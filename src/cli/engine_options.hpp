@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 #include "freespace/config.hpp"
 
@@ -23,13 +24,22 @@ void AddEngineOptions(CLI::App* command, EngineOptions* options);
 // The config of a command: `base` (the defaults unless a command has its own), replaced by
 // --config (whose missing fields keep the defaults), then overridden by --backend / --threads /
 // --opencl-wait / --opencl-devices.
-// When the config file has no `sensor` section and `log_sensor` is given, the sensor comes
-// from the log. Throws ConfigError.
+// When the config file has neither a `sensor` section nor a `sensors` list and `log_sensor` is
+// given, the sensor comes from the log. Throws ConfigError.
 Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_sensor,
                         const Config& base = Config());
 
-// Whether the file of --config has a `sensor` section (false without --config). Throws
-// ConfigError when it cannot be read.
+// The same with the sensors of a log or a simulated drive: one sensor, or a rig (several, with
+// its vehicle, which a `rig` section of the config file replaces).
+struct LogSensors {
+  std::vector<SensorConfig> sensors;
+  RigConfig rig;
+};
+Config LoadEngineConfig(const EngineOptions& options, const LogSensors& log,
+                        const Config& base = Config());
+
+// Whether the file of --config has a `sensor` section or a `sensors` list (false without
+// --config). Throws ConfigError when it cannot be read.
 bool ConfigSetsSensor(const EngineOptions& options);
 
 // Creates `dir` (and parents); throws OutputError when it cannot.

@@ -95,8 +95,14 @@ int Eval(const EvalOptions& options) {
   Config config;
   try {
     reader = OpenLog(options.log);
-    config = LoadEngineConfig(options.engine, &reader->sensor());
+    LogSensors sensors{reader->sensors(), reader->rig()};
+    config = LoadEngineConfig(options.engine, sensors);
     truth = sim::ReadTruth(options.truth);
+    if (config.sensor_count() != int(truth.rig.scanners.size())) {
+      throw ConfigError("config: the drive's rig '" + truth.rig.name + "' has " +
+                        std::to_string(truth.rig.scanners.size()) + " scanners, the config " +
+                        std::to_string(config.sensor_count()) + " sensors");
+    }
     MakeDirectories(options.out);
     estimator = std::make_unique<Estimator>(config);
   } catch (const std::exception& e) {
@@ -113,13 +119,14 @@ int Eval(const EvalOptions& options) {
   context.truth = options.truth;
   context.backend = estimator->backend_name();
   try {
-    Scan scan;
-    while (reader->Next(&scan)) {
+    CycleReader cycles(*reader, config.sensor_count());
+    std::vector<Scan> cycle;
+    while (cycles.Next(&cycle)) {
       for (const LogIssue& issue : reader->TakeIssues()) {
         std::cerr << "freespace eval: warning: " << issue.ToString() << "\n";
       }
-      ++context.scans_read;
-      const Result& r = estimator->Process(scan);
+      context.scans_read += long(cycle.size());
+      const Result& r = estimator->ProcessCycle(cycle);
       if (r.status == ScanStatus::kRejected) {
         ++context.rejected;
         std::cerr << "freespace eval: warning: scan " << r.scan_index << " rejected: " << r.message

@@ -131,7 +131,14 @@ class LogRun {
       LogOptions log_options;
       log_options.format = ParseFormat(options_.format);
       reader_ = OpenInput(options_.log, log_options, options_.bag);
-      config_ = LoadEngineConfig(options_.engine, &reader_->sensor());
+      LogSensors sensors{reader_->sensors(), reader_->rig()};
+      config_ = LoadEngineConfig(options_.engine, sensors);
+      if (reader_->sensors().size() > std::size_t(config_.sensor_count())) {
+        throw ConfigError("config: the log holds scans of " +
+                          std::to_string(reader_->sensors().size()) + " sensors, the config has " +
+                          std::to_string(config_.sensor_count()));
+      }
+      cycles_ = std::make_unique<CycleReader>(*reader_, config_.sensor_count());
       MakeDirectories(options_.out);
       estimator_ = std::make_unique<Estimator>(config_);
       polygons_ =
@@ -154,17 +161,18 @@ class LogRun {
   }
 
   // Every scan of the log (up to --max-scans); kExitBadInput when --strict stops it.
+  // A rig's log goes by cycles (CycleReader); --max-scans counts scans.
   int ProcessLog() {
-    Scan scan;
+    std::vector<Scan> cycle;
     const Result* last = nullptr;
     while (options_.max_scans <= 0 || tally_.scans_read < options_.max_scans) {
-      const bool more = reader_->Next(&scan);
+      const bool more = cycles_->Next(&cycle);
       if (ReportIssues()) return kExitBadInput;
       if (!more) break;
-      ++tally_.scans_read;
-      const std::string where = reader_->path() + ":" + std::to_string(reader_->line());
-      const Result& r = estimator_->Process(scan);
-      const Verdict verdict = Check(r, scan, where);
+      tally_.scans_read += long(cycle.size());
+      const std::string where = reader_->path() + ":" + std::to_string(cycles_->line());
+      const Result& r = estimator_->ProcessCycle(cycle);
+      const Verdict verdict = Check(r, cycle.front(), where);
       if (verdict == Verdict::kStop) return kExitBadInput;
       if (verdict == Verdict::kSkip) continue;
       Keep(r);
@@ -327,6 +335,7 @@ class LogRun {
   const RunOptions& options_;
   std::unique_ptr<LogReader> reader_;
   std::unique_ptr<Estimator> estimator_;
+  std::unique_ptr<CycleReader> cycles_;
   std::unique_ptr<TextFile> polygons_;
   BagOutput bag_out_;
   Config config_;

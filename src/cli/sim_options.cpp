@@ -22,6 +22,12 @@ void AddSimOptions(CLI::App* command, SimOptions* o) {
                    "yaw-rate bias) or poor (2 %, 0.5 deg/s)")
       ->check(CLI::IsMember({"none", "typical", "poor"}))
       ->capture_default_str();
+  command
+      ->add_option("--rig", o->rig,
+                   "Scanners on the car: front (one ScaLa-like scanner on the front bumper) or "
+                   "surround (four at the corners, 360 deg; the engine fuses each cycle)")
+      ->check(CLI::IsMember(sim::RigNames()))
+      ->capture_default_str();
   command->add_option("--speed-scale-error", o->speed_scale_error,
                       "Overrides the preset's relative speed error (0.01 = +1 %)");
   command->add_option("--yaw-rate-bias", o->yaw_rate_bias_dps,
@@ -41,6 +47,7 @@ sim::SimulationOptions MakeSimulationOptions(const SimOptions& o) {
   s.scenario = o.scenario;
   s.seed = o.seed;
   s.duration_s = o.duration_s;
+  s.rig = o.rig;
   s.odometry = sim::OdometryNoise::Preset(o.odometry_noise);
   if (std::isfinite(o.speed_scale_error)) s.odometry.speed_scale_error = o.speed_scale_error;
   if (std::isfinite(o.yaw_rate_bias_dps)) s.odometry.yaw_rate_bias_dps = o.yaw_rate_bias_dps;

@@ -14,6 +14,7 @@ struct SimOptions {
   std::uint64_t seed = 1;
   double duration_s = 0.0;
   std::string odometry_noise = "none";
+  std::string rig = "front";
   double speed_scale_error = NAN;
   double yaw_rate_bias_dps = NAN;
   double rain_probability = NAN;

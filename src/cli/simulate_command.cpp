@@ -21,23 +21,25 @@ int Simulate(const SimulateOptions& options) {
   try {
     sim::Simulation simulation(MakeSimulationOptions(options.sim));
     MakeDirectories(options.out);
-    sim::SimulationWriter writer(options.out, simulation.truth().scanner);
+    sim::SimulationWriter writer(options.out, simulation.rig());
     std::cerr << "freespace simulate: " << simulation.scenario().name << " (seed "
               << options.sim.seed << "): " << simulation.scenario().description << "; "
               << simulation.scan_count() << " scans\n";
-    Scan scan;
+    std::vector<Scan> cycle;
     std::vector<sim::EchoSource> sources;
     EchoCounts counts;
-    while (simulation.Next(&scan, &sources)) {
-      writer.Write(scan);
+    while (simulation.NextCycle(&cycle, &sources)) {
+      for (const Scan& scan : cycle) writer.Write(scan);
       counts.Add(sources);
+      sources.clear();
     }
     writer.Close(simulation.truth());
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     std::cerr << "freespace simulate: " << counts.ToString() << "\n"
-              << "freespace simulate: wrote " << writer.log_path() << ", " << writer.carmen_path()
-              << " and " << writer.truth_path() << " in " << seconds << " s\n";
+              << "freespace simulate: wrote " << writer.log_path()
+              << (writer.writes_carmen() ? ", " + writer.carmen_path() : "") << " and "
+              << writer.truth_path() << " in " << seconds << " s\n";
   } catch (const std::invalid_argument& e) {
     std::cerr << "freespace simulate: " << e.what() << "\n";
     return kExitSetup;

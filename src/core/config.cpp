@@ -5,6 +5,7 @@
 #include "freespace/config.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -89,7 +90,18 @@ const Relation kRelations[] = {
 
 class YamlWriter {
  public:
-  void Section(const char* name) { out_ << name << ":\n"; }
+  // Leaves out section `skip` (the single sensor when a rig replaces it).
+  explicit YamlWriter(std::string skip = "") : skip_(std::move(skip)) {}
+  void Section(const char* name) {
+    skipping_ = name == skip_;
+    if (!skipping_) out_ << name << ":\n";
+  }
+  // Starts item `i` of a list section (`sensors:` then "  - " before the item's first field).
+  void ListItem(const char* list, std::size_t i) {
+    if (i == 0) out_ << list << ":\n";
+    skipping_ = false;
+    item_start_ = true;
+  }
   void operator()(const char* name, int v, const Spec&) { Line(name, Format(v)); }
   void operator()(const char* name, double v, const Spec&) {
     std::ostringstream s;
@@ -127,9 +139,16 @@ class YamlWriter {
 
  private:
   void Line(const char* name, const std::string& value) {
-    out_ << "  " << name << ": " << value << "\n";
+    if (skipping_) return;
+    out_ << (item_start_ ? "  - " : item_indent_) << name << ": " << value << "\n";
+    if (item_start_) item_indent_ = "    ";
+    item_start_ = false;
   }
   std::ostringstream out_;
+  std::string skip_;
+  bool skipping_ = false;
+  bool item_start_ = false;
+  std::string item_indent_ = "  ";
 };
 
 // Throws "config: <section>.<name> = <value>: <rule>" for the first field outside its own range
@@ -213,13 +232,78 @@ std::string ValueText(const Config& c, const std::string& field) {
 
 }  // namespace
 
-void Config::Validate() const {
-  VisitFields(*this, RangeCheck());
+namespace {
+
+void ValidateFields(const Config& c) {
+  VisitFields(c, RangeCheck());
   for (const Relation& r : kRelations) {
-    if (r.holds(*this)) continue;
-    throw ConfigError("config: " + std::string(r.field) + " = " + ValueText(*this, r.field) + ": " +
-                      r.rule + (r.detail ? r.detail(*this) : ""));
+    if (r.holds(c)) continue;
+    throw ConfigError("config: " + std::string(r.field) + " = " + ValueText(c, r.field) + ": " +
+                      r.rule + (r.detail ? r.detail(c) : ""));
   }
+}
+
+// `text` with every "sensor." (a field of the single sensor) read as one of the rig's.
+std::string RigSensorText(std::string text, const std::string& label) {
+  const std::string from = "sensor.";
+  for (std::size_t at = text.find(from); at != std::string::npos;
+       at = text.find(from, at + label.size())) {
+    const bool word =
+        at == 0 || !(std::isalnum(static_cast<unsigned char>(text[at - 1])) || text[at - 1] == '_');
+    if (word) {
+      text.replace(at, from.size() - 1, label);
+    } else {
+      at += 1;
+    }
+  }
+  return text;
+}
+
+// Each sensor of a rig as the single sensor would be checked, messages naming it; names
+// distinct and not empty.
+void ValidateRig(const Config& c) {
+  if (c.sensors.size() > std::size_t(kMaxSensors)) {
+    throw ConfigError("config: sensors has " + std::to_string(c.sensors.size()) +
+                      " sensors: at most " + std::to_string(kMaxSensors));
+  }
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < c.sensors.size(); ++i) {
+    const SensorConfig& s = c.sensors[i];
+    const std::string label = "sensors[" + (s.name.empty() ? std::to_string(i) : s.name) + "]";
+    if (s.name.empty()) throw ConfigError("config: " + label + ".name is empty: name each sensor");
+    for (const char ch : s.name) {
+      if (!std::isgraph(static_cast<unsigned char>(ch))) {
+        throw ConfigError("config: " + label +
+                          ".name: must be one word of printable characters (no spaces)");
+      }
+    }
+    if (!names.insert(s.name).second) {
+      throw ConfigError("config: " + label + ".name = \"" + s.name +
+                        "\": two sensors of the rig have this name");
+    }
+    Config one = c;
+    one.sensors.clear();
+    one.sensor = s;
+    try {
+      ValidateFields(one);
+    } catch (const ConfigError& e) {
+      throw ConfigError(RigSensorText(e.what(), label));
+    }
+  }
+}
+
+}  // namespace
+
+void Config::Validate() const {
+  if (is_rig()) {
+    Config base = *this;
+    base.sensor = SensorConfig{};
+    base.sensors.clear();
+    ValidateFields(base);
+    ValidateRig(*this);
+    return;
+  }
+  ValidateFields(*this);
 }
 
 std::vector<ConfigFieldDoc> ConfigFieldDocs() {
@@ -262,8 +346,13 @@ std::string ConfigFieldsMarkdown() {
 }
 
 std::string Config::ToYaml() const {
-  YamlWriter writer;
+  YamlWriter writer(is_rig() ? "sensor" : "");
   VisitFields(*this, writer);
+  for (std::size_t i = 0; i < sensors.size(); ++i) {
+    writer.ListItem("sensors", i);
+    SensorConfig s = sensors[i];
+    VisitSensor(s, writer);
+  }
   return writer.str();
 }
 

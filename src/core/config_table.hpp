@@ -109,6 +109,7 @@ void VisitMap(C& m, Visitor& v) {
 
 template <class C, class Visitor>
 void VisitSensor(C& s, Visitor& v) {
+  v("name", s.name, {"", {}, "the sensor's name in a rig (sensors list); scans name it by index"});
   v("layers", s.layers, {"", Closed(1, 255), "points of layer >= layers are dropped"});
   v("min_angle_deg", s.min_angle_deg,
     {"deg", Closed(-360, 360), "start of the horizontal aperture, sensor frame, CCW"});
@@ -194,6 +195,17 @@ void VisitPolygon(C& p, Visitor& v) {
 }
 
 template <class C, class Visitor>
+void VisitRig(C& r, Visitor& v) {
+  v("reference_x_m", r.reference_x_m,
+    {"m", Open(-100, 100), "a rig's reference point (circle, border rays) in the vehicle frame"});
+  v("reference_y_m", r.reference_y_m,
+    {"m", Open(-100, 100), "a rig's reference point, y in the vehicle frame"});
+  v("footprint_length_m", r.footprint_length_m,
+    {"m", Closed(0, 50), "a rig's vehicle footprint around the reference point, fused as free"});
+  v("footprint_width_m", r.footprint_width_m, {"m", Closed(0, 50), "the footprint's width"});
+}
+
+template <class C, class Visitor>
 void VisitBackend(C& b, Visitor& v) {
   v.Enum("kind", b.kind, kBackendNames, {"", {}, "compute backend"});
   v("threads", b.threads, {"", Closed(0, 1024), "TBB worker threads; 0 = all cores"});
@@ -227,6 +239,8 @@ void VisitFields(C& c, Visitor&& v) {
   VisitPolygon(c.polygon, v);
   v.Section("backend");
   VisitBackend(c.backend, v);
+  v.Section("rig");
+  VisitRig(c.rig, v);
 }
 
 // Collects the known field names per section, for the unknown-key check.

@@ -5,6 +5,7 @@
 
 #include <fstream>
 #include <map>
+#include <set>
 
 #include "config_table.hpp"
 #include "freespace/config.hpp"
@@ -61,9 +62,12 @@ class YamlReader {
   YamlReader(const YAML::Node& root, std::string source)
       : root_(root), source_(std::move(source)) {}
 
-  void Section(const char* name) {
-    section_ = name;
-    node_ = root_[name];
+  void Section(const char* name) { Read(name, root_[name]); }
+
+  // Reads the fields of `node` (a mapping, or null) as section `label`.
+  void Read(const std::string& label, const YAML::Node& node) {
+    section_ = label;
+    node_ = node;
     if (node_ && !node_.IsMap() && !node_.IsNull()) {
       throw ConfigError(Where(node_) + "'" + section_ + "' must be a mapping of fields");
     }
@@ -132,6 +136,42 @@ std::string KeyName(const YAML::Node& key, const std::string& source, const char
   return key.Scalar();
 }
 
+// Checks the field names of a mapping `node` read as section `label` against `known`: each
+// known, none twice (yaml-cpp would silently read the first of two).
+void CheckFields(const YAML::Node& node, const std::string& label,
+                 const std::set<std::string>& known, const std::string& source) {
+  std::map<std::string, int> fields;
+  for (const auto& field : node) {
+    const std::string key = KeyName(field.first, source, "field");
+    if (!known.count(key)) {
+      throw ConfigError(Where(source, field.first) + ": unknown field '" + label + "." +
+                        io::Excerpt(key) + "'");
+    }
+    const auto [seen, new_field] = fields.emplace(key, field.first.Mark().line + 1);
+    if (!new_field) {
+      throw ConfigError(Where(source, field.first) + ": field '" + label + "." + key +
+                        "' appears twice (first on line " + std::to_string(seen->second) + ")");
+    }
+  }
+}
+
+// The `sensors` list of a rig: a sequence of 1 .. kMaxSensors mappings of sensor fields.
+void CheckSensorList(const YAML::Node& list, const YAML::Node& key,
+                     const std::set<std::string>& known, const std::string& source) {
+  if (!list.IsSequence() || list.size() == 0 || list.size() > std::size_t(kMaxSensors)) {
+    throw ConfigError(Where(source, key) + ": 'sensors' must be a list of 1 to " +
+                      std::to_string(kMaxSensors) + " sensors, each a mapping of sensor fields");
+  }
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const YAML::Node item = list[i];
+    const std::string label = "sensors[" + std::to_string(i) + "]";
+    if (!item.IsMap()) {
+      throw ConfigError(Where(source, item) + ": '" + label + "' must be a mapping of fields");
+    }
+    CheckFields(item, label, known, source);
+  }
+}
+
 // Checks the names of the sections and of their fields: each known, none twice (yaml-cpp
 // would silently read the first of two).
 void CheckKeys(const YAML::Node& root, const std::string& source) {
@@ -141,7 +181,10 @@ void CheckKeys(const YAML::Node& root, const std::string& source) {
   std::map<std::string, int> sections;  // name -> line of its first appearance
   for (const auto& section : root) {
     const std::string name = KeyName(section.first, source, "section");
-    const auto it = known.keys().find(name);
+    if (name == "sensors") {
+      CheckSensorList(section.second, section.first, known.keys().at("sensor"), source);
+    }
+    const auto it = name == "sensors" ? known.keys().find("sensor") : known.keys().find(name);
     if (it == known.keys().end()) {
       throw ConfigError(Where(source, section.first) + ": unknown section '" + io::Excerpt(name) +
                         "'");
@@ -153,19 +196,26 @@ void CheckKeys(const YAML::Node& root, const std::string& source) {
                         "): merge the two");
     }
     if (!section.second.IsMap()) continue;
-    std::map<std::string, int> fields;
-    for (const auto& field : section.second) {
-      const std::string key = KeyName(field.first, source, "field");
-      if (!it->second.count(key)) {
-        throw ConfigError(Where(source, field.first) + ": unknown field '" + name + "." +
-                          io::Excerpt(key) + "'");
-      }
-      const auto [seen, new_field] = fields.emplace(key, field.first.Mark().line + 1);
-      if (!new_field) {
-        throw ConfigError(Where(source, field.first) + ": field '" + name + "." + key +
-                          "' appears twice (first on line " + std::to_string(seen->second) + ")");
-      }
-    }
+    CheckFields(section.second, name, it->second, source);
+  }
+  if (sections.count("sensor") && sections.count("sensors")) {
+    throw ConfigError(source + ":" + std::to_string(sections.at("sensors")) +
+                      ": give one 'sensor' section or a 'sensors' list, not both (the 'sensor' "
+                      "section is on line " +
+                      std::to_string(sections.at("sensor")) + ")");
+  }
+}
+
+// The rig's sensors, each read like the `sensor` section; a sensor without a name is
+// "sensor<i>".
+void ReadSensorList(const YAML::Node& list, YamlReader* reader, Config* config) {
+  if (!list) return;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    SensorConfig s;
+    s.name = "sensor" + std::to_string(i);
+    reader->Read("sensors[" + std::to_string(i) + "]", list[i]);
+    VisitSensor(s, *reader);
+    config->sensors.push_back(s);
   }
 }
 
@@ -185,6 +235,7 @@ Config Config::FromYaml(const std::string& yaml_text, const std::string& source)
   CheckKeys(root, source);
   YamlReader reader(root, source);
   VisitFields(config, reader);
+  ReadSensorList(root["sensors"], &reader, &config);
   return config;
 }
 

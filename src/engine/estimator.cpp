@@ -26,16 +26,6 @@ bool Finite(const Pose2D& p) {
   return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.yaw);
 }
 
-// The sensor's world pose: the odometry pose composed with the mount.
-Pose2D SensorPose(const Pose2D& pose, const SensorConfig& s) {
-  const double cy = std::cos(pose.yaw), sy = std::sin(pose.yaw);
-  Pose2D sensor;
-  sensor.x = pose.x + cy * s.mount_x_m - sy * s.mount_y_m;
-  sensor.y = pose.y + sy * s.mount_x_m + cy * s.mount_y_m;
-  sensor.yaw = WrapAngle(pose.yaw + s.mount_yaw_deg * M_PI / 180.0);
-  return sensor;
-}
-
 Config Validated(Config config) {
   config.Validate();
   return config;
@@ -65,6 +55,7 @@ Estimator::Impl::Impl(const Config& config) : config_(Validated(config)), circle
   result_.edge_cells.reserve(labels);
   result_.message.reserve(256);
   backend_->Clear();
+  if (config_.is_rig()) MakeRig();
 }
 
 void Estimator::Impl::Reset() {
@@ -92,6 +83,8 @@ void Estimator::Impl::Begin(const Scan& scan) {
   r.polygon_status = PolygonStatus::kNone;
   r.simplification_error_m = 0.0;
   r.polygon_contains_vehicle = false;
+  r.cycle_sensors.clear();
+  r.cycle_sensor_poses.clear();
 }
 
 const Result& Estimator::Impl::Reject(RejectReason reason, const char* text) {
@@ -127,6 +120,14 @@ bool Estimator::Impl::CheckInput(const Scan& scan) {
     std::snprintf(text, sizeof text, "pose (%.6g, %.6g) m is out of range (|x|, |y| <= %.0e m)",
                   scan.pose.x, scan.pose.y, kMaxCoordinateM);
     Reject(RejectReason::kPoseOutOfRange, text);
+    return false;
+  }
+  if (!config_.is_rig() && scan.sensor != 0) {
+    std::snprintf(text, sizeof text,
+                  "the scan names sensor %d, but the config has one sensor (a rig is a "
+                  "'sensors' list)",
+                  scan.sensor);
+    Reject(RejectReason::kBadCycle, text);
     return false;
   }
   return true;
@@ -238,6 +239,7 @@ void Estimator::Impl::ExtractPolygon() {
 }
 
 const Result& Estimator::Impl::Process(const Scan& scan) {
+  if (config_.is_rig()) return ProcessCycle(&scan, 1);
   const Clock::time_point t_begin = Clock::now();
   Result& r = result_;
   Begin(scan);
@@ -247,6 +249,8 @@ const Result& Estimator::Impl::Process(const Scan& scan) {
   };
   if (!CheckInput(scan)) return finish();
   r.sensor_pose = SensorPose(scan.pose, config_.sensor);
+  r.cycle_sensors.push_back(0);
+  r.cycle_sensor_poses.push_back(r.sensor_pose);
 
   // Preprocess (sensor frame): validation, DBSCAN, virtual points.
   const bool has_update = preprocess_->Run(scan, &r.stats);
@@ -257,6 +261,11 @@ const Result& Estimator::Impl::Process(const Scan& scan) {
   r.times.align_us = Micros(t_pre, t_align);
 
   UpdateMap(has_update, scan);
+  return Conclude(t_begin);
+}
+
+const Result& Estimator::Impl::Conclude(Clock::time_point t_begin) {
+  Result& r = result_;
   ClassifyAndScan();
   const Clock::time_point t_polygon = Clock::now();
   ExtractPolygon();
@@ -293,6 +302,9 @@ MapView Estimator::Impl::map() const {
 Estimator::Estimator(const Config& config) : impl_(std::make_unique<Impl>(config)) {}
 Estimator::~Estimator() = default;
 const Result& Estimator::Process(const Scan& scan) { return impl_->Process(scan); }
+const Result& Estimator::ProcessCycle(const Scan* scans, int count) {
+  return impl_->ProcessCycle(scans, count);
+}
 void Estimator::Reset() { impl_->Reset(); }
 MapView Estimator::map() const { return impl_->map(); }
 const Config& Estimator::config() const { return impl_->config(); }
@@ -338,6 +350,8 @@ const char* ToString(RejectReason reason) {
       return "pose_out_of_range";
     case RejectReason::kPoseJump:
       return "pose_jump";
+    case RejectReason::kBadCycle:
+      return "bad_cycle";
   }
   return "?";
 }

@@ -2,6 +2,8 @@
 // DESIGN.md's pipeline, each behind the interface chosen once from the config.
 #pragma once
 
+#include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -17,11 +19,22 @@
 
 namespace freespace {
 
+// The sensor's world pose: the odometry pose composed with the mount.
+inline Pose2D SensorPose(const Pose2D& pose, const SensorConfig& s) {
+  const double cy = std::cos(pose.yaw), sy = std::sin(pose.yaw);
+  Pose2D sensor;
+  sensor.x = pose.x + cy * s.mount_x_m - sy * s.mount_y_m;
+  sensor.y = pose.y + sy * s.mount_x_m + cy * s.mount_y_m;
+  sensor.yaw = WrapAngle(pose.yaw + s.mount_yaw_deg * M_PI / 180.0);
+  return sensor;
+}
+
 class Estimator::Impl {
  public:
   explicit Impl(const Config& config);
 
   const Result& Process(const Scan& scan);
+  const Result& ProcessCycle(const Scan* scans, int count);
   void Reset();
   MapView map() const;
 
@@ -36,7 +49,23 @@ class Estimator::Impl {
   void UpdateMap(bool has_update, const Scan& scan);
   void ClassifyAndScan();
   void ExtractPolygon();
+  // Classification, border rays and polygon, then the times; ends every accepted scan or cycle.
+  const Result& Conclude(std::chrono::steady_clock::time_point t_begin);
   const Result& Reject(RejectReason reason, const char* text);
+
+  // A rig's cycle (rig_cycle.cpp): checks, each sensor's preprocessing (in parallel), then each
+  // scan's update from its own sensor pose and the footprint.
+  struct RigSensor {
+    Config config;  // the estimator's, with `sensor` this sensor
+    std::unique_ptr<Preprocessor> preprocess;
+    ScanStats stats;
+    bool has_update = false;
+  };
+  void MakeRig();
+  bool CheckCycle(const Scan* scans, int count);
+  bool PreprocessCycle(const Scan* scans);
+  void UpdateMapCycle(const Scan* scans);
+  void FuseFootprint();
 
   Config config_;
   std::unique_ptr<Backend> backend_;
@@ -48,7 +77,11 @@ class Estimator::Impl {
   std::unique_ptr<PolygonExtractor> polygon_;
   Result result_;
   std::uint64_t scans_ = 0;
-  Pose2D last_sensor_;  // sensor pose of the last accepted scan
+  Pose2D last_sensor_;                      // sensor pose of the last accepted scan
+  std::vector<RigSensor> rig_;              // a rig's sensors (empty for a single sensor)
+  std::vector<int> cycle_order_;            // the cycle's scans by sensor index
+  std::vector<std::int32_t> cycle_echoes_;  // echo cells of every scan of the cycle
+  std::int32_t footprint_[8] = {};          // the footprint's corners, fixed point
   mutable std::vector<LogOdds> map_mirror_;
   mutable std::vector<std::uint8_t> free_mirror_;
 };

@@ -35,16 +35,37 @@ nlohmann::json PipelineRun::ToJson() const {
   return out;
 }
 
-PipelineRun TimePipeline(const Config& config, const std::vector<Scan>& scans, int warmup) {
-  Estimator estimator(config);
+namespace {
+
+PipelineRun StartRun(const Config& config, const Estimator& estimator) {
   PipelineRun run;
   run.backend = estimator.backend_name();
   if (run.backend.rfind("opencl", 0) == 0) {
     run.opencl_wait = ToString(config.backend.opencl_wait);
     run.opencl_spin_us = config.backend.opencl_spin_us;
   }
+  return run;
+}
+
+}  // namespace
+
+PipelineRun TimePipeline(const Config& config, const std::vector<Scan>& scans, int warmup) {
+  Estimator estimator(config);
+  PipelineRun run = StartRun(config, estimator);
   for (const Scan& scan : scans) {
     const Result& r = estimator.Process(scan);
+    if (r.status == ScanStatus::kRejected) continue;
+    if (run.scans++ >= warmup) run.times.Add(r.times);
+  }
+  return run;
+}
+
+PipelineRun TimeCycles(const Config& config, const std::vector<std::vector<Scan>>& cycles,
+                       int warmup) {
+  Estimator estimator(config);
+  PipelineRun run = StartRun(config, estimator);
+  for (const std::vector<Scan>& cycle : cycles) {
+    const Result& r = estimator.ProcessCycle(cycle);
     if (r.status == ScanStatus::kRejected) continue;
     if (run.scans++ >= warmup) run.times.Add(r.times);
   }

@@ -12,11 +12,10 @@ namespace freespace {
 namespace {
 
 // The per-drive values a seed summary reports, each a MetricsSeries summary field's mean.
-constexpr const char* kMetrics[] = {"accuracy",           "false_free_rate",
-                                    "intrusion_m2",       "intrusion_moving_m2",
-                                    "intrusion_mask_m2",  "intrusion_geometric_m2",
-                                    "coverage",           "coverage_seen"};
-constexpr const char* kStages[] = {"preprocess", "align",   "rasterize", "fuse",   "classify",
+constexpr const char* kMetrics[] = {
+    "accuracy",          "false_free_rate",        "intrusion_m2", "intrusion_moving_m2",
+    "intrusion_mask_m2", "intrusion_geometric_m2", "coverage",     "coverage_seen"};
+constexpr const char* kStages[] = {"preprocess", "align",   "rasterize", "fuse", "classify",
                                    "mask",       "insight", "polygon",   "total"};
 
 double Mean(const nlohmann::json& summary, const char* metric) {
@@ -87,15 +86,15 @@ DriveEvaluation EvaluateDrive(const sim::SimulationOptions& options, const Confi
                               bool keep_sensor) {
   sim::Simulation simulation(options);
   Config c = config;
-  if (!keep_sensor) c.sensor = simulation.truth().scanner.EngineSensor();
+  if (!keep_sensor || simulation.rig().several()) c = sim::WithRig(c, simulation.rig());
   Estimator estimator(c);
   sim::TruthScorer scorer(simulation.truth());
   DriveEvaluation drive;
   drive.scenario = simulation.scenario().name;
   drive.seed = options.seed;
-  Scan scan;
-  while (simulation.Next(&scan)) {
-    const Result& r = estimator.Process(scan);
+  std::vector<Scan> cycle;
+  while (simulation.NextCycle(&cycle)) {
+    const Result& r = estimator.ProcessCycle(cycle);
     if (r.status == ScanStatus::kRejected) {
       ++drive.rejected;
       continue;

@@ -207,6 +207,7 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
   Cover(map, truth);
   PolygonCells(map, polygon);
   See(map, truth.visible);
+  for (const Polygon& more : truth.visible_more) See(map, more);
   const bool score_in_sight = truth.in_sight.size() >= 3;
   in_sight_.assign(std::size_t(map.width) * map.height, 0);
   if (score_in_sight) {

@@ -35,7 +35,22 @@ ScanMetrics TruthScorer::Score(std::size_t index, const MapView& map, const Resu
     frame_.moving[i] = truth_.world.obstacles[i].mover >= 0;
   }
   caster_.PlaceMovers(s.movers);
-  frame_.visible = Transform(to_map, VisibilityPolygon(caster_, s.sensor, truth_.scanner));
+  const Rig& rig = truth_.rig;
+  if (rig.several()) {
+    // Each scanner of the rig at its mount; the in-sight area is around the reference point.
+    frame_.visible_more.clear();
+    for (std::size_t k = 0; k < rig.scanners.size(); ++k) {
+      const Pose2D sensor = Compose(s.pose, rig.scanners[k].mount());
+      Polygon seen = Transform(to_map, VisibilityPolygon(caster_, sensor, rig.scanners[k]));
+      if (k == 0) {
+        frame_.visible = std::move(seen);
+      } else {
+        frame_.visible_more.push_back(std::move(seen));
+      }
+    }
+  } else {
+    frame_.visible = Transform(to_map, VisibilityPolygon(caster_, s.sensor, truth_.scanner));
+  }
   // In sight all around, as far as the map reaches from the sensor.
   const double reach = std::hypot(map.width, map.height) * map.resolution_m;
   frame_.in_sight = Transform(to_map, SurroundingVisibility(caster_, Vec2(s.sensor.x, s.sensor.y),

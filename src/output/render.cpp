@@ -44,6 +44,20 @@ cv::Mat RenderSnapshot(const MapView& map, const Result& result, const SnapshotO
     }
   }
 
+  if (overlay.rays != nullptr) {
+    static const cv::Scalar kColours[] = {{60, 60, 220},  {220, 120, 40}, {40, 160, 220},
+                                          {180, 60, 180}, {60, 180, 120}, {120, 120, 120}};
+    for (std::size_t k = 0; k < overlay.rays->size(); ++k) {
+      const ScannerRays& scanner = (*overlay.rays)[k];
+      const cv::Scalar& colour = kColours[k % (sizeof kColours / sizeof kColours[0])];
+      const cv::Point origin = world_pixel(scanner.origin);
+      for (const Vec2& e : scanner.echoes) {
+        cv::line(image, origin, world_pixel(e), colour, 1, cv::LINE_4);
+      }
+      cv::circle(image, origin, std::max(2, scale), colour, -1, cv::LINE_AA);
+    }
+  }
+
   if (result.polygon_cells.size() >= 3) {
     std::vector<cv::Point> points;
     for (const Vec2& v : result.polygon_cells) points.push_back(pixel(v));
@@ -73,6 +87,26 @@ cv::Mat RenderSnapshot(const MapView& map, const Result& result, const SnapshotO
                 cv::Scalar(20, 20, 20), 1, cv::LINE_AA);
   }
   return image;
+}
+
+std::vector<ScannerRays> CycleRays(const std::vector<Scan>& scans, const Result& result, int step) {
+  std::vector<ScannerRays> rays;
+  for (std::size_t k = 0; k < result.cycle_sensors.size(); ++k) {
+    const Pose2D& sensor = result.cycle_sensor_poses[k];
+    ScannerRays r;
+    r.origin = Vec2(sensor.x, sensor.y);
+    for (const Scan& scan : scans) {
+      if (scan.sensor != result.cycle_sensors[k]) continue;
+      int n = 0;
+      for (const ScanPoint& p : scan.points) {
+        if (!p.echo || p.layer != 0 || n++ % step != 0) continue;
+        const double a = sensor.yaw + double(p.angle_rad);
+        r.echoes.push_back(r.origin + Vec2(std::cos(a), std::sin(a)) * double(p.range_m));
+      }
+    }
+    rays.push_back(std::move(r));
+  }
+  return rays;
 }
 
 void WritePng(const std::string& path, const cv::Mat& image) {

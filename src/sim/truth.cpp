@@ -117,6 +117,7 @@ void WriteTruth(const std::string& path, const Truth& truth) {
                     {"description", truth.description},
                     {"seed", truth.seed},
                     {"scanner", ScannerJson(truth.scanner)},
+                    {"rig", truth.rig.name},
                     {"odometry_noise",
                      {{"speed_scale_error", n.speed_scale_error},
                       {"speed_sigma_mps", n.speed_sigma_mps},
@@ -149,6 +150,11 @@ Truth ReadTruth(const std::string& path) {
     truth.description = doc.value("description", "");
     truth.seed = doc.value("seed", std::uint64_t(0));
     truth.scanner = ScannerFrom(doc.at("scanner"));
+    try {
+      truth.rig = MakeRig(doc.value("rig", "front"), truth.scanner);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(path + ": " + e.what());
+    }
     if (doc.contains("odometry_noise")) {
       const json& n = doc.at("odometry_noise");
       Get(n, "speed_scale_error", &truth.odometry_noise.speed_scale_error);

@@ -3,6 +3,10 @@
 // uses the laser pose on its own line. Other messages (ODOM, PARAM, NEFF, ...) are ignored.
 // A first pass over the file finds the scanner's geometry and, unless given, its saturation
 // range: ranges at or above it are beams without echo (81.83 m in intel.clf).
+// A log with a second laser (RLASER, the rear laser in FLASER's layout, or ROBOTLASER2) is a
+// rig of two sensors: sensor 0 the front laser (FLASER / ROBOTLASER1), sensor 1 the second;
+// each scan then carries the robot's odometry pose from its line, and each sensor's mount is
+// its laser pose relative to that odometry pose on its first line.
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -49,16 +53,20 @@ class CarmenReader final : public LogReader {
     while (NextLine(&line, &line_no)) {
       SplitFields(line, &fields_);
       if (fields_.empty()) continue;
-      if (fields_[0] == "FLASER") {
+      const int flaser = FlaserSensor(fields_[0]), robot = RobotLaserSensor(fields_[0]);
+      if (flaser >= 0) {
         if (ParseFlaser(line_no, scan)) {
+          scan->sensor = flaser;
           line_ = line_no;
           return true;
         }
-      } else if (fields_[0] == "ROBOTLASER1") {
+      } else if (robot >= 0) {
+        const std::string kind(fields_[0]);
         double t = 0;
         if (!ParseRobotLaser(line_no, 0, scan, &t)) continue;
+        scan->sensor = robot;
         line_ = line_no;
-        // Further layers: following ROBOTLASER1 lines with the same timestamp.
+        // Further layers: following lines of the same laser with the same timestamp.
         int layer = 1;  // a layer index is a uint8: lines past the 256th of a scan are skipped
         std::size_t skipped = 0, skipped_from = 0;
         std::string next;
@@ -67,8 +75,7 @@ class CarmenReader final : public LogReader {
           SplitFields(next, &fields_);
           double t_next = 0;
           Scan layer_scan;
-          if (!fields_.empty() && fields_[0] == "ROBOTLASER1" && PeekTimestamp(&t_next) &&
-              t_next == t) {
+          if (!fields_.empty() && fields_[0] == kind && PeekTimestamp(&t_next) && t_next == t) {
             if (layer > kMaxLayer) {
               if (skipped++ == 0) skipped_from = next_no;
             } else if (ParseRobotLaser(next_no, std::uint8_t(layer), &layer_scan, &t_next)) {
@@ -84,9 +91,8 @@ class CarmenReader final : public LogReader {
           break;
         }
         if (skipped > 0) {
-          Report(skipped_from, "ROBOTLASER1: " + std::to_string(skipped) +
-                                   " line(s) from here on " + "share the timestamp of the " +
-                                   std::to_string(kMaxLayer + 1) +
+          Report(skipped_from, kind + ": " + std::to_string(skipped) + " line(s) from here on " +
+                                   "share the timestamp of the " + std::to_string(kMaxLayer + 1) +
                                    " before them, more layers than a scan holds; skipped");
         }
         return true;
@@ -106,6 +112,17 @@ class CarmenReader final : public LogReader {
   }
 
  private:
+  // The sensor of a FLASER-layout message (FLASER 0, RLASER 1 in a rig), else -1.
+  int FlaserSensor(std::string_view name) const {
+    if (name == "FLASER") return 0;
+    return name == "RLASER" && second_ == kSecondRlaser ? 1 : -1;
+  }
+  // The sensor of a ROBOTLASER message (ROBOTLASER1 0, ROBOTLASER2 1 in a rig), else -1.
+  int RobotLaserSensor(std::string_view name) const {
+    if (name == "ROBOTLASER1") return 0;
+    return name == "ROBOTLASER2" && second_ == kSecondRobotLaser ? 1 : -1;
+  }
+
   bool NextLine(std::string* line, std::size_t* line_no) {
     if (has_pending_) {
       has_pending_ = false;
@@ -122,61 +139,120 @@ class CarmenReader final : public LogReader {
     return false;
   }
 
-  // First pass: laser geometry and the largest range (the saturation value).
+  // What the first pass learns of one laser.
+  struct Surveyed {
+    bool found = false;
+    SensorConfig sensor;
+    int layers = 1, group = 0;
+    double group_t = NAN;
+    Pose2D laser, odometry;  // on its first line
+  };
+
+  // The laser and odometry poses of the FLASER-layout line in fields_ with n beams.
+  bool FlaserPoses(long n, Pose2D* laser, Pose2D* odometry) const {
+    double v[6];
+    for (int i = 0; i < 6; ++i) {
+      if (!ParseDouble(fields_[std::size_t(n) + 2 + i], &v[i])) return false;
+    }
+    *laser = {v[0], v[1], v[2]};
+    *odometry = {v[3], v[4], v[5]};
+    return true;
+  }
+
+  void SurveyFlaser(Surveyed* laser, double* max_range) {
+    long n = 0;
+    if (fields_.size() <= 2 || !ParseInt(fields_[1], &n) || n <= 1 ||
+        fields_.size() < std::size_t(n) + 11) {
+      return;
+    }
+    if (!laser->found && FlaserPoses(n, &laser->laser, &laser->odometry)) {
+      laser->found = true;
+      laser->sensor.layers = 1;
+      laser->sensor.min_angle_deg = -90.0;
+      laser->sensor.angular_resolution_deg = FlaserResolutionDeg(n);
+      laser->sensor.max_angle_deg = -90.0 + double(n - 1) * laser->sensor.angular_resolution_deg;
+    }
+    for (long i = 0; i < n; ++i) {
+      double r;
+      if (ParseDouble(fields_[2 + i], &r) && std::isfinite(r)) *max_range = std::max(*max_range, r);
+    }
+  }
+
+  void SurveyRobotLaser(Surveyed* laser, double* max_range) {
+    long n = 0, m = 0;
+    if (fields_.size() <= 9 || !ParseInt(fields_[8], &n) || n <= 1) return;
+    double start, fov, res, line_max, t, v[6];
+    if (!ParseDouble(fields_[2], &start) || !ParseDouble(fields_[3], &fov) ||
+        !ParseDouble(fields_[4], &res) || !ParseDouble(fields_[5], &line_max) || !(res > 0)) {
+      return;
+    }
+    if (!laser->found) {
+      const bool poses = fields_.size() >= std::size_t(n) + 10 && ParseInt(fields_[9 + n], &m) &&
+                         m >= 0 && fields_.size() >= std::size_t(n + m) + 24;
+      const std::size_t base = std::size_t(n + m) + 10;
+      bool ok = poses;
+      for (int i = 0; ok && i < 6; ++i) ok = ParseDouble(fields_[base + i], &v[i]);
+      if (!ok) return;
+      laser->found = true;
+      laser->sensor.min_angle_deg = start * kRadToDeg;
+      laser->sensor.angular_resolution_deg = res * kRadToDeg;
+      laser->sensor.max_angle_deg = (start + double(n - 1) * res) * kRadToDeg;
+      laser->laser = {v[0], v[1], v[2]};
+      laser->odometry = {v[3], v[4], v[5]};
+    }
+    *max_range = std::max(*max_range, line_max);
+    if (PeekTimestamp(&t)) {
+      laser->group = (t == laser->group_t) ? laser->group + 1 : 1;
+      laser->group_t = t;
+      laser->layers = std::max(laser->layers, laser->group);
+    }
+  }
+
+  // First pass: laser geometry and the largest range (the saturation value); a second laser
+  // makes the log a rig.
   void Survey(const LogOptions& options) {
     std::string line;
     double max_range = 0.0;
-    bool found = false;
-    int group = 0, layers = 1;
-    double group_t = NAN;
+    Surveyed lasers[2];
     while (std::getline(in_, line)) {
       if (IsCommentOrBlank(line)) continue;
       SplitFields(line, &fields_);
-      long n = 0;
-      if (fields_[0] == "FLASER" && fields_.size() > 2 && ParseInt(fields_[1], &n) && n > 1 &&
-          fields_.size() >= std::size_t(n) + 11) {
-        if (!found) {
-          found = true;
-          sensor_.layers = 1;
-          sensor_.min_angle_deg = -90.0;
-          sensor_.angular_resolution_deg = FlaserResolutionDeg(n);
-          sensor_.max_angle_deg = -90.0 + double(n - 1) * sensor_.angular_resolution_deg;
-        }
-        for (long i = 0; i < n; ++i) {
-          double r;
-          if (ParseDouble(fields_[2 + i], &r) && std::isfinite(r))
-            max_range = std::max(max_range, r);
-        }
-      } else if (fields_[0] == "ROBOTLASER1" && fields_.size() > 9 && ParseInt(fields_[8], &n) &&
-                 n > 1) {
-        double start, fov, res, line_max, t;
-        if (!ParseDouble(fields_[2], &start) || !ParseDouble(fields_[3], &fov) ||
-            !ParseDouble(fields_[4], &res) || !ParseDouble(fields_[5], &line_max) || !(res > 0)) {
-          continue;
-        }
-        if (!found) {
-          found = true;
-          sensor_.min_angle_deg = start * kRadToDeg;
-          sensor_.angular_resolution_deg = res * kRadToDeg;
-          sensor_.max_angle_deg = (start + double(n - 1) * res) * kRadToDeg;
-        }
-        max_range = std::max(max_range, line_max);
-        if (PeekTimestamp(&t)) {
-          group = (t == group_t) ? group + 1 : 1;
-          group_t = t;
-          layers = std::max(layers, group);
-        }
-      }
+      const std::string_view name = fields_[0];
+      if (second_ == kNoSecond && name == "RLASER") second_ = kSecondRlaser;
+      if (second_ == kNoSecond && name == "ROBOTLASER2") second_ = kSecondRobotLaser;
+      const int flaser = FlaserSensor(name), robot = RobotLaserSensor(name);
+      if (flaser >= 0) SurveyFlaser(&lasers[flaser], &max_range);
+      if (robot >= 0) SurveyRobotLaser(&lasers[robot], &max_range);
     }
-    if (!found) {
+    if (!lasers[0].found) {
       throw InputError(path_ + ": a CARMEN log without any usable FLASER or ROBOTLASER1 message");
     }
-    sensor_.layers = std::min(layers, 255);
-    sensor_.mount_x_m = sensor_.mount_y_m = sensor_.mount_yaw_deg = 0.0;  // poses are laser poses
-    sensor_.min_range_m = 0.0;
     max_range_ = options.carmen_max_range_m > 0 ? options.carmen_max_range_m : max_range;
-    sensor_.max_range_m = std::max(max_range_, 1.0);
-    sensor_.no_echo_margin_m = kNoEchoMargin;
+    for (Surveyed& l : lasers) {
+      l.sensor.layers = std::min(l.layers, 255);
+      l.sensor.min_range_m = 0.0;
+      l.sensor.max_range_m = std::max(max_range_, 1.0);
+      l.sensor.no_echo_margin_m = kNoEchoMargin;
+    }
+    if (second_ != kNoSecond && lasers[1].found) {
+      // A rig: poses are the odometry's, each laser at its mount.
+      for (int k = 0; k < 2; ++k) {
+        const Pose2D& o = lasers[k].odometry;
+        const Pose2D& l = lasers[k].laser;
+        const double c = std::cos(o.yaw), sn = std::sin(o.yaw);
+        SensorConfig s = lasers[k].sensor;
+        s.name = k == 0 ? "front" : "rear";
+        s.mount_x_m = c * (l.x - o.x) + sn * (l.y - o.y);
+        s.mount_y_m = -sn * (l.x - o.x) + c * (l.y - o.y);
+        s.mount_yaw_deg = std::remainder(l.yaw - o.yaw, 2 * M_PI) * kRadToDeg;
+        rig_.push_back(s);
+      }
+      sensor_ = rig_.front();
+      return;
+    }
+    second_ = kNoSecond;
+    sensor_ = lasers[0].sensor;
+    sensor_.mount_x_m = sensor_.mount_y_m = sensor_.mount_yaw_deg = 0.0;  // laser poses
   }
 
   // The ipc timestamp of the ROBOTLASER1 line in fields_.
@@ -232,6 +308,15 @@ class CarmenReader final : public LogReader {
     }
     scan->timestamp_s = t;
     scan->pose = {x, y, theta};
+    if (second_ != kNoSecond) {
+      double odometry[3];
+      if (!ParseNumber(line_no, n + 5, "odom_x", &odometry[0]) ||
+          !ParseNumber(line_no, n + 6, "odom_y", &odometry[1]) ||
+          !ParseNumber(line_no, n + 7, "odom_theta", &odometry[2])) {
+        return false;
+      }
+      scan->pose = {odometry[0], odometry[1], odometry[2]};
+    }
     return true;
   }
 
@@ -278,10 +363,24 @@ class CarmenReader final : public LogReader {
     }
     scan->timestamp_s = *t;
     scan->pose = {x, y, theta};
+    if (second_ != kNoSecond) {
+      double robot[3];
+      if (!ParseNumber(line_no, base + 3, "robot_x", &robot[0]) ||
+          !ParseNumber(line_no, base + 4, "robot_y", &robot[1]) ||
+          !ParseNumber(line_no, base + 5, "robot_theta", &robot[2])) {
+        scan->points.resize(first);
+        return false;
+      }
+      scan->pose = {robot[0], robot[1], robot[2]};
+    }
     return true;
   }
 
+  // The second laser's message, when the log is a rig.
+  enum Second { kNoSecond, kSecondRlaser, kSecondRobotLaser };
+
   std::ifstream in_;
+  Second second_ = kNoSecond;
   double size_ = 0;
   double max_range_ = 0;
   std::vector<std::string_view> fields_;

@@ -37,6 +37,30 @@ const char* ToString(LogFormat format) {
   return "?";
 }
 
+bool CycleReader::Next(std::vector<Scan>* cycle) {
+  cycle->clear();
+  if (has_pending_) {
+    cycle->push_back(std::move(pending_));
+    line_ = pending_line_;
+    has_pending_ = false;
+  }
+  while (int(cycle->size()) < sensors_) {
+    Scan scan;
+    if (!reader_.Next(&scan)) break;
+    bool repeated = false;
+    for (const Scan& s : *cycle) repeated = repeated || s.sensor == scan.sensor;
+    if (repeated) {
+      pending_ = std::move(scan);
+      pending_line_ = reader_.line();
+      has_pending_ = true;
+      break;
+    }
+    if (cycle->empty()) line_ = reader_.line();
+    cycle->push_back(std::move(scan));
+  }
+  return !cycle->empty();
+}
+
 namespace {
 
 LogFormat Detect(const std::string& path) {
@@ -50,7 +74,7 @@ LogFormat Detect(const std::string& path) {
     io::SplitFields(line, &fields);
     if (fields[0] == "FREESPACE_LOG") return LogFormat::kNative;
     for (const char* carmen : {"FLASER", "ROBOTLASER1", "ODOM", "PARAM", "SYNC", "RLASER",
-                               "TRUEPOS", "NEFF", "RAWLASER1", "RAWLASER2"}) {
+                               "TRUEPOS", "NEFF", "RAWLASER1", "RAWLASER2", "ROBOTLASER2"}) {
       if (fields[0] == carmen) return LogFormat::kCarmen;
     }
     throw InputError(path + ": not a recognised log (first message '" + io::Excerpt(fields[0]) +

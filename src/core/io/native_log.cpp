@@ -6,10 +6,15 @@
 //          <max_range_m> <mount_x_m> <mount_y_m> <mount_yaw_deg>          (one line)
 //   SCAN <t_s> <x_m> <y_m> <yaw_rad> <n> then n triples <layer> <angle_deg> <range_m | ->
 //
+// Version 2 holds a rig: one or more "SENSOR <name> <layers> ..." lines, an optional
+// "RIG <reference_x_m> <reference_y_m> <footprint_length_m> <footprint_width_m>" line, and each
+// scan names its sensor by index: "SCAN <sensor> <t_s> ...".
+//
 // One scan a line; '-' is a beam without echo; '#' starts a comment line.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 
 #include "freespace/errors.hpp"
@@ -32,52 +37,31 @@ class NativeReader final : public LogReader {
     size_ = double(in_.tellg());
     in_.seekg(0);
     std::string line;
-    bool header = false, sensor = false;
-    while (!sensor && NextLine(&line)) {
+    if (!NextLine(&line)) throw InputError(path + ": empty; expected the header 'FREESPACE_LOG 1'");
+    ReadHeader(line);
+    // SENSOR lines: one in version 1; one or more in version 2, up to the first other record.
+    while (NextLine(&line)) {
       SplitFields(line, &fields_);
-      if (!header) {
-        long version = 0;
-        if (fields_.size() != 2 || fields_[0] != "FREESPACE_LOG" ||
-            !ParseInt(fields_[1], &version)) {
-          throw InputError(path + ":" + std::to_string(line_no_) +
-                           ": expected the header 'FREESPACE_LOG 1'");
-        }
-        if (version != 1) {
-          throw InputError(path + ":" + std::to_string(line_no_) + ": log version " +
-                           std::to_string(version) + " is not supported (this reader reads 1)");
-        }
-        header = true;
+      if (version_ == 2 && fields_[0] == "RIG") {
+        ReadRig();
         continue;
       }
-      double v[9];
-      bool ok = fields_.size() == 10 && fields_[0] == "SENSOR";
-      for (int i = 0; ok && i < 9; ++i) ok = ParseDouble(fields_[i + 1], &v[i]);
-      if (!ok) {
-        throw InputError(path + ":" + std::to_string(line_no_) +
-                         ": expected 'SENSOR layers min_angle_deg max_angle_deg resolution_deg "
-                         "min_range_m max_range_m mount_x_m mount_y_m mount_yaw_deg'");
+      if (fields_[0] != "SENSOR" && !rig_.empty()) {
+        pending_ = line;
+        has_pending_ = true;
+        break;
       }
-      if (!(v[0] >= 1 && v[0] <= 255 && v[0] == std::floor(v[0]))) {
-        throw InputError(path + ":" + std::to_string(line_no_) + ": SENSOR layer count '" +
-                         Excerpt(fields_[1]) + "' is not an integer 1..255");
-      }
-      sensor_.layers = int(v[0]);
-      sensor_.min_angle_deg = v[1];
-      sensor_.max_angle_deg = v[2];
-      sensor_.angular_resolution_deg = v[3];
-      sensor_.min_range_m = v[4];
-      sensor_.max_range_m = v[5];
-      sensor_.mount_x_m = v[6];
-      sensor_.mount_y_m = v[7];
-      sensor_.mount_yaw_deg = v[8];
-      sensor = true;
+      ReadSensor();
+      if (version_ == 1) break;
     }
-    if (!sensor) throw InputError(path + ": no SENSOR line after the header");
+    if (rig_.empty()) throw InputError(path + ": no SENSOR line after the header");
+    sensor_ = rig_.front();
+    if (rig_.size() == 1) rig_.clear();
   }
 
   bool Next(Scan* scan) override {
     std::string line;
-    while (NextLine(&line)) {
+    while (TakeLine(&line)) {
       SplitFields(line, &fields_);
       if (fields_[0] != "SCAN") {
         Report(line_no_, "unknown record '" + Excerpt(fields_[0]) + "'; line skipped");
@@ -106,7 +90,93 @@ class NativeReader final : public LogReader {
     return false;
   }
 
+  // The line the header left over, else the next.
+  bool TakeLine(std::string* line) {
+    if (has_pending_) {
+      has_pending_ = false;
+      *line = std::move(pending_);
+      return true;
+    }
+    return NextLine(line);
+  }
+
+  std::string Where() const { return path_ + ":" + std::to_string(line_no_) + ": "; }
+
+  void ReadHeader(const std::string& line) {
+    SplitFields(line, &fields_);
+    long version = 0;
+    if (fields_.size() != 2 || fields_[0] != "FREESPACE_LOG" || !ParseInt(fields_[1], &version)) {
+      throw InputError(Where() + "expected the header 'FREESPACE_LOG 1' (or 2)");
+    }
+    if (version != 1 && version != 2) {
+      throw InputError(Where() + "log version " + std::to_string(version) +
+                       " is not supported (this reader reads 1 and 2)");
+    }
+    version_ = int(version);
+  }
+
+  // "RIG reference_x_m reference_y_m footprint_length_m footprint_width_m" (version 2).
+  void ReadRig() {
+    double v[4];
+    bool ok = fields_.size() == 5;
+    for (int i = 0; ok && i < 4; ++i) ok = ParseDouble(fields_[i + 1], &v[i]);
+    if (!ok || !(std::abs(v[0]) < 100 && std::abs(v[1]) < 100 && v[2] >= 0 && v[2] <= 50 &&
+                 v[3] >= 0 && v[3] <= 50)) {
+      throw InputError(Where() +
+                       "expected 'RIG reference_x_m reference_y_m footprint_length_m "
+                       "footprint_width_m' (|reference| < 100 m, footprint 0 .. 50 m)");
+    }
+    rig_vehicle_ = {v[0], v[1], v[2], v[3]};
+  }
+
+  // A SENSOR line: version 1 "SENSOR layers ...", version 2 "SENSOR name layers ...".
+  void ReadSensor() {
+    const std::size_t named = version_ == 2 ? 1 : 0;
+    double v[9];
+    bool ok = fields_.size() == 10 + named && fields_[0] == "SENSOR";
+    for (int i = 0; ok && i < 9; ++i) ok = ParseDouble(fields_[i + 1 + named], &v[i]);
+    if (!ok) {
+      throw InputError(Where() + "expected 'SENSOR " + (named ? "name " : "") +
+                       "layers min_angle_deg max_angle_deg resolution_deg min_range_m "
+                       "max_range_m mount_x_m mount_y_m mount_yaw_deg'");
+    }
+    if (!(v[0] >= 1 && v[0] <= 255 && v[0] == std::floor(v[0]))) {
+      throw InputError(Where() + "SENSOR layer count '" + Excerpt(fields_[1 + named]) +
+                       "' is not an integer 1..255");
+    }
+    if (rig_.size() >= std::size_t(kMaxSensors)) {
+      throw InputError(Where() + "more than " + std::to_string(kMaxSensors) + " SENSOR lines");
+    }
+    SensorConfig s;
+    if (named) s.name = Excerpt(fields_[1]);
+    s.layers = int(v[0]);
+    s.min_angle_deg = v[1];
+    s.max_angle_deg = v[2];
+    s.angular_resolution_deg = v[3];
+    s.min_range_m = v[4];
+    s.max_range_m = v[5];
+    s.mount_x_m = v[6];
+    s.mount_y_m = v[7];
+    s.mount_yaw_deg = v[8];
+    rig_.push_back(s);
+  }
+
   bool Parse(Scan* scan) {
+    scan->sensor = 0;
+    if (version_ == 2) {
+      // "SCAN sensor t x y yaw n ...": the index read, the rest parsed as version 1's.
+      long sensor = -1;
+      const std::size_t sensors = rig_.empty() ? 1 : rig_.size();
+      if (fields_.size() < 2 || !ParseInt(fields_[1], &sensor) || sensor < 0 ||
+          std::size_t(sensor) >= sensors) {
+        Report(line_no_, "SCAN: sensor index '" + (fields_.size() < 2 ? "" : Excerpt(fields_[1])) +
+                             "' is not one of the " + std::to_string(sensors) +
+                             " SENSOR lines (0 ..); line skipped");
+        return false;
+      }
+      scan->sensor = int(sensor);
+      fields_.erase(fields_.begin() + 1);
+    }
     double head[4];
     long n = 0;
     if (fields_.size() < 6) {
@@ -170,6 +240,9 @@ class NativeReader final : public LogReader {
   }
 
   mutable std::ifstream in_;
+  int version_ = 1;
+  std::string pending_;
+  bool has_pending_ = false;
   double size_ = 0;
   std::vector<std::string_view> fields_;
   std::size_t line_no_ = 0;
@@ -198,12 +271,53 @@ NativeLogWriter::NativeLogWriter(const std::string& path, const SensorConfig& s)
   out_ << line;
 }
 
+NativeLogWriter::NativeLogWriter(const std::string& path, const std::vector<SensorConfig>& sensors,
+                                 const RigConfig& rig)
+    : path_(path) {
+  if (sensors.empty()) throw std::invalid_argument("NativeLogWriter: no sensor");
+  if (sensors.size() == 1) {
+    *this = NativeLogWriter(path, sensors.front());
+    return;
+  }
+  out_.open(path, std::ios::binary | std::ios::trunc);
+  if (!out_) throw OutputError(path + ": cannot create");
+  version_ = 2;
+  sensors_ = int(sensors.size());
+  out_ << "FREESPACE_LOG 2\n# SENSOR name layers min_angle_deg max_angle_deg resolution_deg "
+          "min_range_m max_range_m mount_x_m mount_y_m mount_yaw_deg\n";
+  char line[512];
+  for (const SensorConfig& s : sensors) {
+    std::snprintf(line, sizeof line, "SENSOR %s %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n",
+                  s.name.c_str(), s.layers, s.min_angle_deg, s.max_angle_deg,
+                  s.angular_resolution_deg, s.min_range_m, s.max_range_m, s.mount_x_m, s.mount_y_m,
+                  s.mount_yaw_deg);
+    out_ << line;
+  }
+  std::snprintf(line, sizeof line,
+                "# RIG reference_x_m reference_y_m footprint_length_m footprint_width_m\n"
+                "RIG %.9g %.9g %.9g %.9g\n",
+                rig.reference_x_m, rig.reference_y_m, rig.footprint_length_m,
+                rig.footprint_width_m);
+  out_ << line;
+  out_ << "# SCAN sensor t_s x_m y_m yaw_rad n (layer angle_deg range_m|-)*n\n";
+  if (!out_) throw OutputError(path_ + ": write failed");
+}
+
 void NativeLogWriter::Write(const Scan& scan) {
   std::string text;
   text.reserve(32 + scan.points.size() * 22);
   char buffer[96];
-  std::snprintf(buffer, sizeof buffer, "SCAN %.6f %.6f %.6f %.9f %zu", scan.timestamp_s,
-                scan.pose.x, scan.pose.y, scan.pose.yaw, scan.points.size());
+  if (version_ == 2) {
+    if (scan.sensor < 0 || scan.sensor >= sensors_) {
+      throw std::invalid_argument("NativeLogWriter: scan of sensor " + std::to_string(scan.sensor) +
+                                  " in a log of " + std::to_string(sensors_) + " sensors");
+    }
+    std::snprintf(buffer, sizeof buffer, "SCAN %d %.6f %.6f %.6f %.9f %zu", scan.sensor,
+                  scan.timestamp_s, scan.pose.x, scan.pose.y, scan.pose.yaw, scan.points.size());
+  } else {
+    std::snprintf(buffer, sizeof buffer, "SCAN %.6f %.6f %.6f %.9f %zu", scan.timestamp_s,
+                  scan.pose.x, scan.pose.y, scan.pose.yaw, scan.points.size());
+  }
   text += buffer;
   for (const ScanPoint& p : scan.points) {
     const double deg = double(p.angle_rad) * 180.0 / M_PI;

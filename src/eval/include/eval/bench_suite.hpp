@@ -29,6 +29,9 @@ struct PipelineRun {
 // Runs an estimator of `config` over `scans`; the first `warmup` processed scans are not
 // timed. Throws what the Estimator throws (ConfigError, BackendError).
 PipelineRun TimePipeline(const Config& config, const std::vector<Scan>& scans, int warmup);
+// The same for a rig: one Estimator::ProcessCycle() per cycle; `scans` counts cycles.
+PipelineRun TimeCycles(const Config& config, const std::vector<std::vector<Scan>>& cycles,
+                       int warmup);
 
 // How one scan's update of one inverse sensor model covers the sensor's footprint: the cells
 // inside the fan triangles between consecutive real (non-virtual) returns (docs/bench.md).

@@ -17,7 +17,8 @@ namespace freespace {
 struct TruthFrame {
   std::vector<geometry::Polygon> obstacles;  // convex, counter-clockwise, at the scan's time
   std::vector<bool> moving;                  // per obstacle: it moves (empty: none moves)
-  geometry::Polygon visible;   // the scanner's true visibility polygon of this scan (its aperture)
+  geometry::Polygon visible;  // the scanner's true visibility polygon of this scan (its aperture)
+  std::vector<geometry::Polygon> visible_more;  // a rig's other scanners' visibility polygons
   geometry::Polygon in_sight;  // the true visibility all around the sensor now (empty: coverage
                                // is not scored)
 };

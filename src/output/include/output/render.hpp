@@ -8,14 +8,27 @@
 #include <vector>
 
 #include "freespace/result.hpp"
+#include "freespace/scan.hpp"
 
 namespace freespace {
+
+// One scanner's scan as drawn: its world origin and its echoes (world metres).
+struct ScannerRays {
+  Vec2 origin;
+  std::vector<Vec2> echoes;
+};
 
 struct SnapshotOverlay {
   // World polylines (metres) drawn in green, e.g. the simulator's true obstacle outlines.
   const std::vector<std::vector<Vec2>>* truth = nullptr;
+  // Every scanner's rays to its echoes, thin, a colour per scanner, and its origin.
+  const std::vector<ScannerRays>* rays = nullptr;
   std::string caption;
 };
+
+// The rays of a cycle's scans (Result::cycle_sensor_poses) for drawing: every `step`-th echo of
+// each scan, in world metres.
+std::vector<ScannerRays> CycleRays(const std::vector<Scan>& scans, const Result& result, int step);
 
 // Pixels per cell so that the image is about 900 pixels wide (at least 1).
 int SnapshotScale(int width, int height);

@@ -22,6 +22,7 @@ struct SimulationOptions {
   double duration_s = 0.0;  // 0: the scenario's own duration
   OdometryNoise odometry;
   ScannerConfig scanner;
+  std::string rig = "front";  // sim/rig.hpp: the scanners, each `scanner` at its mount
 };
 
 class Simulation {
@@ -32,9 +33,15 @@ class Simulation {
   // Simulates the next scan into `scan` (pose: the odometry, rounded as the log writes it, so
   // that a log read back gives the same scans) and appends its truth. False when done.
   bool Next(Scan* scan, std::vector<EchoSource>* sources = nullptr);
+  // Simulates the next cycle of the rig: one scan per scanner, all stamped alike (the rig's
+  // scanners are synchronised), scan.sensor its index; the truth's sensor pose is the rig's
+  // reference point. With the front rig, one scan as Next() gives. False when done.
+  // `sources`, when given, gets every scan's point sources one after the other.
+  bool NextCycle(std::vector<Scan>* scans, std::vector<EchoSource>* sources = nullptr);
 
   std::size_t scan_count() const { return count_; }  // scans the drive has
   const Scenario& scenario() const { return scenario_; }
+  const Rig& rig() const { return truth_.rig; }
   const Truth& truth() const { return truth_; }  // the header and the scans so far
   const TruthScan& last() const { return truth_.scans.back(); }
 
@@ -42,18 +49,25 @@ class Simulation {
   SimulationOptions options_;
   Scenario scenario_;
   std::unique_ptr<ScanSimulator> scanner_;
+  std::vector<std::unique_ptr<ScanSimulator>> rig_scanners_;  // a rig's other scanners
+  std::vector<EchoSource> more_;
   Odometry odometry_;
   Truth truth_;
   std::size_t count_ = 0;
+  // Simulates scan `next_` (the truth appended); the first scanner's scan into `scan`.
+  double Step(Scan* scan, std::vector<EchoSource>* sources, const Pose2D& sensor_mount);
   std::size_t next_ = 0;
 };
 
 // Writes a drive into a folder: sim.fslog (FREESPACE_LOG), sim.clf (one ROBOTLASER1 line per
-// layer) and, on Close(), truth.json. Throws InputError when a file cannot be written.
+// layer; not for a rig of several scanners, which CARMEN's records cannot name) and, on
+// Close(), truth.json. Throws OutputError when a file cannot be written.
 class SimulationWriter {
  public:
   SimulationWriter(const std::string& dir, const ScannerConfig& scanner);
+  SimulationWriter(const std::string& dir, const Rig& rig);
   void Write(const Scan& scan);
+  bool writes_carmen() const { return carmen_ != nullptr; }
   void Close(const Truth& truth);
 
   std::string log_path() const { return dir_ + "/sim.fslog"; }
@@ -63,7 +77,7 @@ class SimulationWriter {
  private:
   std::string dir_;
   NativeLogWriter native_;
-  RobotLaserWriter carmen_;
+  std::unique_ptr<RobotLaserWriter> carmen_;
 };
 
 }  // namespace freespace::sim

@@ -10,6 +10,7 @@
 
 #include "freespace/types.hpp"
 #include "sim/odometry.hpp"
+#include "sim/rig.hpp"
 #include "sim/scanner.hpp"
 #include "sim/world.hpp"
 
@@ -20,7 +21,7 @@ struct TruthScan {
   double t = 0.0;
   Pose2D pose;                 // true vehicle pose (reference point) at t
   Pose2D odometry;             // the pose the log holds for this scan
-  Pose2D sensor;               // true sensor pose at t
+  Pose2D sensor;               // true sensor pose at t (a rig: its reference point's)
   double speed = 0.0;          // true speed, m/s, negative reversing
   std::vector<Pose2D> movers;  // pose of each moving obstacle at t
 };
@@ -29,7 +30,8 @@ struct Truth {
   std::string scenario;
   std::string description;
   std::uint64_t seed = 0;
-  ScannerConfig scanner;
+  ScannerConfig scanner;  // a rig: its first scanner
+  Rig rig;                // the scanners of the drive; "front": `scanner` alone
   OdometryNoise odometry_noise;
   World world;  // read back: tracks empty, the movers' poses are in the scans
   std::vector<TruthScan> scans;

@@ -1,0 +1,227 @@
+// A rig's cycle (docs/design.md, "A rig of sensors"): every scan of the cycle is preprocessed by
+// its own sensor's preprocessor (in parallel), then fused as the paper fuses one scan, from its
+// own sensor pose at its own time, one scan after the other in the rig's order; the vehicle's
+// footprint is fused as free last. The circle, the classification, the border rays and the
+// polygon then run once, around the rig's reference point at the newest scan's pose.
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "estimator_impl.hpp"
+
+namespace freespace {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Micros(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::micro>(b - a).count();
+}
+
+void AddStats(const ScanStats& s, ScanStats* sum) {
+  sum->points += s.points;
+  sum->echoes += s.echoes;
+  sum->no_echo += s.no_echo;
+  sum->invalid_range += s.invalid_range;
+  sum->out_of_aperture += s.out_of_aperture;
+  sum->bad_layer += s.bad_layer;
+  sum->clutter += s.clutter;
+  sum->kept += s.kept;
+  sum->beams += s.beams;
+  sum->virtual_points += s.virtual_points;
+}
+
+// A world pose in the map's cells (fractional) and its yaw in the map, as the aligner placed
+// the map and the reference point in `r`: the reference's cells plus the offset from it, so that
+// a sensor at the reference point lands exactly where the aligner put the reference.
+Vec2 MapCells(const Pose2D& p, const Result& r, double resolution, double* yaw) {
+  const double c = std::cos(r.map_yaw), s = std::sin(r.map_yaw);
+  const double dx = p.x - r.sensor_pose.x, dy = p.y - r.sensor_pose.y;
+  *yaw = WrapAngle(p.yaw - r.map_yaw);
+  return r.vehicle_cells + Vec2(c * dx + s * dy, -s * dx + c * dy) / resolution;
+}
+
+}  // namespace
+
+void Estimator::Impl::MakeRig() {
+  rig_.resize(config_.sensors.size());
+  for (std::size_t i = 0; i < rig_.size(); ++i) {
+    rig_[i].config = config_;
+    rig_[i].config.sensor = config_.sensors[i];
+    rig_[i].config.sensors.clear();
+    rig_[i].preprocess = std::make_unique<Preprocessor>(rig_[i].config);
+  }
+  cycle_order_.reserve(rig_.size());
+  result_.cycle_sensors.reserve(rig_.size());
+  result_.cycle_sensor_poses.reserve(rig_.size());
+}
+
+// One scan per sensor at most, every index in the rig; fills cycle_order_ (scans by sensor).
+bool Estimator::Impl::CheckCycle(const Scan* scans, int count) {
+  char text[200];
+  if (count < 1 || scans == nullptr) {
+    Reject(RejectReason::kBadCycle, "an empty cycle: no scan to process");
+    return false;
+  }
+  const int sensors = config_.sensor_count();
+  if (count > sensors) {
+    std::snprintf(text, sizeof text, "a cycle of %d scans from a rig of %d sensors", count,
+                  sensors);
+    Reject(RejectReason::kBadCycle, text);
+    return false;
+  }
+  cycle_order_.clear();
+  for (int i = 0; i < count; ++i) {
+    const int s = scans[i].sensor;
+    if (s < 0 || s >= sensors) {
+      std::snprintf(text, sizeof text, "scan %d of the cycle names sensor %d; the rig has 0 .. %d",
+                    i, s, sensors - 1);
+      Reject(RejectReason::kBadCycle, text);
+      return false;
+    }
+    for (int j : cycle_order_) {
+      if (scans[j].sensor == s) {
+        std::snprintf(text, sizeof text, "sensor %d (%s) has two scans in one cycle", s,
+                      config_.sensor_at(s).name.c_str());
+        Reject(RejectReason::kBadCycle, text);
+        return false;
+      }
+    }
+    cycle_order_.push_back(i);
+  }
+  std::sort(cycle_order_.begin(), cycle_order_.end(),
+            [&](int a, int b) { return scans[a].sensor < scans[b].sensor; });
+  return true;
+}
+
+// Each scan through its sensor's preprocessor, the sensors in parallel. False when no scan has
+// a kept echo.
+bool Estimator::Impl::PreprocessCycle(const Scan* scans) {
+  const int n = int(cycle_order_.size());
+  const auto run = [&](int k) {
+    const Scan& scan = scans[cycle_order_[k]];
+    RigSensor& unit = rig_[scan.sensor];
+    unit.stats = ScanStats{};
+    unit.has_update = unit.preprocess->Run(scan, &unit.stats);
+  };
+  if (n == 1) {
+    run(0);
+  } else {
+    tbb::parallel_for(0, n, run);
+  }
+  bool any = false;
+  for (int k = 0; k < n; ++k) {
+    const RigSensor& unit = rig_[scans[cycle_order_[k]].sensor];
+    AddStats(unit.stats, &result_.stats);
+    any = any || unit.has_update;
+  }
+  return any;
+}
+
+// Each scan's update (sensor model and fusion) from its own sensor's pose in the aligned map,
+// in the rig's order; then the footprint; the veto layer holds every scan's echoes.
+void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
+  Result& r = result_;
+  const double res = config_.map.resolution_m;
+  cycle_echoes_.clear();
+  for (int index : cycle_order_) {
+    const Scan& scan = scans[index];
+    RigSensor& unit = rig_[scan.sensor];
+    const Pose2D sensor = SensorPose(scan.pose, unit.config.sensor);
+    r.cycle_sensors.push_back(scan.sensor);
+    r.cycle_sensor_poses.push_back(sensor);
+    if (!unit.has_update) continue;
+    double yaw = 0.0;
+    const Vec2 cells = MapCells(sensor, r, res, &yaw);
+    StageTimes times;
+    sensor_model_->Update(unit.preprocess.get(), cells, yaw, backend_.get(), &times);
+    r.times.rasterize_us += times.rasterize_us;
+    r.times.fuse_us += times.fuse_us;
+    const std::vector<std::int32_t>& echoes = unit.preprocess->echo_cells();
+    cycle_echoes_.insert(cycle_echoes_.end(), echoes.begin(), echoes.end());
+  }
+  FuseFootprint();
+  backend_->SetEchoes(cycle_echoes_.data(), int(cycle_echoes_.size()));
+}
+
+// The footprint rectangle around the reference point, turned with the vehicle, fused as one
+// scan that sees it free.
+void Estimator::Impl::FuseFootprint() {
+  const RigConfig& rig = config_.rig;
+  if (rig.footprint_length_m <= 0.0 || rig.footprint_width_m <= 0.0) return;
+  const Result& r = result_;
+  const double res = config_.map.resolution_m;
+  double yaw = 0.0;
+  const Vec2 centre = MapCells(r.sensor_pose, r, res, &yaw);
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const double hl = 0.5 * rig.footprint_length_m / res, hw = 0.5 * rig.footprint_width_m / res;
+  const double corners[4][2] = {{hl, -hw}, {hl, hw}, {-hl, hw}, {-hl, -hw}};
+  double ymin = 1e300, ymax = -1e300;
+  for (int i = 0; i < 4; ++i) {
+    const double x = centre.x() + c * corners[i][0] - s * corners[i][1];
+    const double y = centre.y() + s * corners[i][0] + c * corners[i][1];
+    footprint_[2 * i] = ToFixed(x);
+    footprint_[2 * i + 1] = ToFixed(y);
+    ymin = std::min(ymin, y);
+    ymax = std::max(ymax, y);
+  }
+  const int height = config_.map.height_cells;
+  RasterJob job;
+  job.vertices = footprint_;
+  job.vertex_count = 4;
+  job.row_begin = std::clamp(int(std::floor(ymin)) - 1, 0, height);
+  job.row_end = std::clamp(int(std::ceil(ymax)) + 1, 0, height);
+  if (job.row_begin >= job.row_end) return;
+  const Clock::time_point start = Clock::now();
+  backend_->Rasterize(job);
+  const Clock::time_point rastered = Clock::now();
+  backend_->Fuse(job.row_begin, job.row_end);
+  result_.times.rasterize_us += Micros(start, rastered);
+  result_.times.fuse_us += Micros(rastered, Clock::now());
+}
+
+const Result& Estimator::Impl::ProcessCycle(const Scan* scans, int count) {
+  if (!config_.is_rig() && count == 1 && scans != nullptr) return Process(scans[0]);
+  const Clock::time_point t_begin = Clock::now();
+  Result& r = result_;
+  int newest = 0;
+  for (int i = 1; scans != nullptr && i < count; ++i) {
+    if (scans[i].timestamp_s > scans[newest].timestamp_s) newest = i;
+  }
+  Begin(count > 0 && scans != nullptr ? scans[newest] : Scan{});
+  const auto finish = [&]() -> const Result& {
+    r.times.total_us = Micros(t_begin, Clock::now());
+    return r;
+  };
+  if (!config_.is_rig()) {
+    Reject(RejectReason::kBadCycle, count == 0 ? "an empty cycle: no scan to process"
+                                               : "a cycle of several scans needs a rig (a "
+                                                 "'sensors' list in the config)");
+    return finish();
+  }
+  if (!CheckCycle(scans, count)) return finish();
+  for (int i = 0; i < count; ++i) {
+    if (!CheckInput(scans[i])) return finish();
+  }
+  SensorConfig reference;
+  reference.mount_x_m = config_.rig.reference_x_m;
+  reference.mount_y_m = config_.rig.reference_y_m;
+  r.sensor_pose = SensorPose(scans[newest].pose, reference);
+
+  const bool has_update = PreprocessCycle(scans);
+  const Clock::time_point t_pre = Clock::now();
+  r.times.preprocess_us = Micros(t_begin, t_pre);
+  if (!Align(scans[newest])) return finish();
+  const Clock::time_point t_align = Clock::now();
+  r.times.align_us = Micros(t_pre, t_align);
+
+  UpdateMapCycle(scans);
+  if (!has_update) {
+    r.status = ScanStatus::kNoSensorUpdate;
+    r.message.assign("no usable echo in any scan of the cycle: no sensor update");
+  }
+  return Conclude(t_begin);
+}
+
+}  // namespace freespace

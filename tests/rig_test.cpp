@@ -1,0 +1,404 @@
+// A rig of several sensors (Config::sensors, Estimator::ProcessCycle): the config's list and its
+// errors, the fusion rule of a cycle (each scan fused once from its own pose, in the rig's
+// order), a one-sensor rig matching the single sensor bit for bit, bad cycles, the simulator's
+// surround rig and the version 2 native log that carries a rig.
+#include "sim/rig.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include "core/simplifier.hpp"
+#include "sim/simulator.hpp"
+#include "test_util.hpp"
+
+namespace freespace {
+namespace {
+
+constexpr const char* kTwoSensors = R"(
+sensors:
+  - name: front
+    mount_x_m: 3.7
+  - name: rear
+    mount_x_m: -1.0
+    mount_yaw_deg: 180
+    max_range_m: 80
+rig:
+  reference_x_m: 1.35
+  footprint_length_m: 4.7
+  footprint_width_m: 1.8
+)";
+
+std::string ConfigError(const std::string& yaml) {
+  try {
+    Config::FromYaml(yaml, "rig.yaml").Validate();
+  } catch (const freespace::ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(RigConfig, ReadsTheSensorsList) {
+  const Config c = Config::FromYaml(kTwoSensors, "rig.yaml");
+  c.Validate();
+  ASSERT_TRUE(c.is_rig());
+  ASSERT_EQ(c.sensor_count(), 2);
+  EXPECT_EQ(c.sensor_at(0).name, "front");
+  EXPECT_EQ(c.sensor_at(1).name, "rear");
+  EXPECT_DOUBLE_EQ(c.sensor_at(1).mount_yaw_deg, 180.0);
+  EXPECT_DOUBLE_EQ(c.sensor_at(1).max_range_m, 80.0);
+  EXPECT_DOUBLE_EQ(c.sensor_at(1).angular_resolution_deg, 0.25);  // the default
+  EXPECT_DOUBLE_EQ(c.rig.reference_x_m, 1.35);
+  EXPECT_DOUBLE_EQ(c.rig.footprint_width_m, 1.8);
+
+  const Config again = Config::FromYaml(c.ToYaml(), "written");
+  ASSERT_EQ(again.sensors.size(), 2u);
+  EXPECT_EQ(again.sensors[1].name, "rear");
+  EXPECT_DOUBLE_EQ(again.sensors[1].max_range_m, 80.0);
+  EXPECT_DOUBLE_EQ(again.rig.footprint_length_m, 4.7);
+  EXPECT_EQ(again.ToYaml(), c.ToYaml());
+}
+
+TEST(RigConfig, ASingleSensorConfigIsNoRig) {
+  const Config c = Config::FromYaml("sensor:\n  mount_x_m: 3.7\n", "one.yaml");
+  EXPECT_FALSE(c.is_rig());
+  EXPECT_EQ(c.sensor_count(), 1);
+  EXPECT_DOUBLE_EQ(c.sensor_at(0).mount_x_m, 3.7);
+  EXPECT_EQ(Config::FromYaml(c.ToYaml()).sensors.size(), 0u);
+}
+
+TEST(RigConfig, ErrorsNameTheSensorAndTheField) {
+  EXPECT_NE(ConfigError("sensor:\n  layers: 2\nsensors:\n  - name: a\n").find("not both"),
+            std::string::npos);
+  EXPECT_NE(ConfigError("sensors:\n  - name: a\n  - name: a\n").find("sensors[a].name"),
+            std::string::npos);
+  EXPECT_NE(ConfigError("sensors:\n  - name: a\n  - name: b\n    max_range_m: 0.05\n")
+                .find("sensors[b].max_range_m = 0.05: must be > sensors[b].min_range_m"),
+            std::string::npos);
+  EXPECT_NE(ConfigError("sensors:\n  - name: a\n  - name: b\n    colour: red\n")
+                .find("rig.yaml:4: unknown field 'sensors[1].colour'"),
+            std::string::npos);
+  EXPECT_NE(ConfigError("sensors: []\n").find("a list of 1 to 16"), std::string::npos);
+  EXPECT_NE(ConfigError("sensors:\n  - name: two words\n").find("one word"), std::string::npos);
+  EXPECT_NE(ConfigError("rig:\n  footprint_length_m: 60\n").find("rig.footprint_length_m"),
+            std::string::npos);
+}
+
+// A wall of echoes across the sensor's view `range` metres ahead, on every layer.
+Scan Wall(double t, const Pose2D& pose, int sensor, double range) {
+  Scan scan;
+  scan.timestamp_s = t;
+  scan.pose = pose;
+  scan.sensor = sensor;
+  for (int layer = 0; layer < 4; ++layer) {
+    for (double a = -30.0; a <= 30.0; a += 0.25) {
+      ScanPoint p;
+      p.layer = std::uint8_t(layer);
+      p.angle_rad = float(a * M_PI / 180.0);
+      p.range_m = float(range / std::cos(a * M_PI / 180.0));
+      scan.points.push_back(p);
+    }
+  }
+  return scan;
+}
+
+Config TwoAlike() {
+  Config c;
+  SensorConfig s;
+  s.name = "a";
+  c.sensors.push_back(s);
+  s.name = "b";
+  c.sensors.push_back(s);
+  return c;
+}
+
+// Two sensors at one mount seeing the same scene: each scan is fused once, so every cell the
+// cycle updates holds twice what one scan gives it on a fresh map (the paper's rule per scan).
+TEST(RigEstimator, EachScanOfACycleUpdatesACellOnce) {
+  Estimator one(Config{});
+  Estimator rig(TwoAlike());
+  const Scan a = Wall(0.0, {0, 0, 0}, 0, 12.0);
+  Scan b = a;
+  b.sensor = 1;
+  ASSERT_EQ(one.Process(a).status, ScanStatus::kOk);
+  const Result& r = rig.ProcessCycle(std::vector<Scan>{b, a});
+  ASSERT_EQ(r.status, ScanStatus::kOk) << r.message;
+  EXPECT_EQ(r.cycle_sensors, (std::vector<int>{0, 1}));  // fused in the rig's order
+  const MapView m1 = one.map(), m2 = rig.map();
+  ASSERT_EQ(m1.origin, m2.origin);
+  long updated = 0;
+  for (int i = 0; i < m1.width * m1.height; ++i) {
+    ASSERT_EQ(int(m2.log_odds[i]), 2 * int(m1.log_odds[i])) << "cell " << i;
+    updated += m1.log_odds[i] != 0;
+  }
+  EXPECT_GT(updated, 1000);
+}
+
+// Each scan of a cycle is placed at its own pose: the second sensor's scan, taken 2 m further
+// on, puts its wall 2 m further than the first's.
+TEST(RigEstimator, ScansOfACycleAreFusedAtTheirOwnPoses) {
+  Estimator rig(TwoAlike());
+  const std::vector<Scan> cycle = {Wall(0.00, {0, 0, 0}, 0, 10.1),
+                                   Wall(0.08, {2.0, 0, 0}, 1, 10.1)};
+  const Result& r = rig.ProcessCycle(cycle);
+  ASSERT_EQ(r.status, ScanStatus::kOk) << r.message;
+  EXPECT_DOUBLE_EQ(r.timestamp_s, 0.08);  // the newest scan's
+  const MapView m = rig.map();
+  const auto at = [&](double x, double y) {
+    const int col = int(std::floor((x - m.origin.x()) / m.resolution_m));
+    const int row = int(std::floor((y - m.origin.y()) / m.resolution_m));
+    return m.log_odds[std::size_t(row) * m.width + col];
+  };
+  EXPECT_GT(at(10.1, 0.1), 0);  // sensor a's wall
+  EXPECT_GT(at(12.1, 0.1), 0);  // sensor b's wall, 2 m on
+  EXPECT_LT(at(11.1, 0.1), 0);  // free in b's view
+}
+
+TEST(RigEstimator, BadCyclesAreRejectedAndChangeNothing) {
+  Estimator rig(TwoAlike());
+  const Scan a = Wall(0.0, {0, 0, 0}, 0, 12.0);
+  Scan far = a;
+  far.sensor = 2;
+  EXPECT_EQ(rig.ProcessCycle(nullptr, 0).reject_reason, RejectReason::kBadCycle);
+  EXPECT_EQ(rig.ProcessCycle(std::vector<Scan>{a, a}).reject_reason, RejectReason::kBadCycle);
+  const Result& r = rig.ProcessCycle(std::vector<Scan>{far});
+  EXPECT_EQ(r.reject_reason, RejectReason::kBadCycle);
+  EXPECT_NE(r.message.find("sensor 2"), std::string::npos) << r.message;
+  const MapView m = rig.map();
+  for (int i = 0; i < m.width * m.height; ++i) ASSERT_EQ(m.log_odds[i], 0);
+
+  Estimator single(Config{});
+  Scan b = a;
+  b.sensor = 1;
+  EXPECT_EQ(single.Process(b).reject_reason, RejectReason::kBadCycle);
+  EXPECT_EQ(single.ProcessCycle(std::vector<Scan>{a, a}).reject_reason, RejectReason::kBadCycle);
+  EXPECT_EQ(single.ProcessCycle(std::vector<Scan>{a}).status, ScanStatus::kOk);
+}
+
+// A rig of one sensor whose reference point is that sensor is the single sensor, bit for bit.
+TEST(RigEstimator, OneSensorRigAtItsReferenceIsTheSingleSensor) {
+  sim::SimulationOptions options;
+  options.scenario = "urban";
+  options.seed = 4;
+  sim::Simulation simulation(options);
+  Config single = test::LoadProjectConfig("scala.yaml");
+  single.sensor = simulation.truth().scanner.EngineSensor();
+  Config rig = single;
+  rig.sensors = {single.sensor};
+  rig.rig.reference_x_m = single.sensor.mount_x_m;
+  rig.rig.reference_y_m = single.sensor.mount_y_m;
+  Estimator a(single), b(rig);
+  Scan scan;
+  for (int k = 0; k < 150 && simulation.Next(&scan); ++k) {
+    const Result& ra = a.Process(scan);
+    const Result& rb = b.ProcessCycle(&scan, 1);
+    ASSERT_EQ(ra.status, rb.status) << "scan " << k;
+    ASSERT_EQ(ra.polygon, rb.polygon) << "scan " << k;
+    const MapView ma = a.map(), mb = b.map();
+    ASSERT_EQ(std::memcmp(ma.log_odds, mb.log_odds, sizeof(LogOdds) * ma.width * ma.height), 0)
+        << "scan " << k;
+  }
+}
+
+TEST(RigSimulation, SurroundGivesFourSynchronisedScansAllAround) {
+  sim::SimulationOptions options;
+  options.scenario = "parking";
+  options.seed = 2;
+  options.rig = "surround";
+  sim::Simulation simulation(options);
+  ASSERT_EQ(simulation.rig().scanners.size(), 4u);
+  std::vector<Scan> cycle;
+  ASSERT_TRUE(simulation.NextCycle(&cycle));
+  ASSERT_EQ(cycle.size(), 4u);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(cycle[k].sensor, k);
+    EXPECT_EQ(cycle[k].timestamp_s, cycle[0].timestamp_s);
+    EXPECT_EQ(cycle[k].pose.x, cycle[0].pose.x);
+    int echoes = 0;
+    for (const ScanPoint& p : cycle[k].points) echoes += p.echo;
+    EXPECT_GT(echoes, 50) << "scanner " << k;  // parked cars on every side
+  }
+  // The truth's sensor pose is the rig's reference point, between the axles.
+  const sim::TruthScan& t = simulation.last();
+  EXPECT_NEAR(std::hypot(t.sensor.x - t.pose.x, t.sensor.y - t.pose.y), 1.35, 1e-9);
+
+  // The engine's view of the rig: four sensors, the footprint, a valid config.
+  const Config c = sim::WithRig(Config(), simulation.rig());
+  c.Validate();
+  EXPECT_EQ(c.sensor_count(), 4);
+  EXPECT_EQ(c.sensor_at(2).name, "rear_left");
+  EXPECT_GT(c.rig.footprint_length_m, 4.0);
+
+  // The front rig is the single scanner: the same scans as Next() gives.
+  options.rig = "front";
+  sim::Simulation a(options), b(options);
+  Scan scan;
+  ASSERT_TRUE(a.Next(&scan));
+  ASSERT_TRUE(b.NextCycle(&cycle));
+  ASSERT_EQ(cycle.size(), 1u);
+  EXPECT_EQ(cycle[0].points.size(), scan.points.size());
+  EXPECT_EQ(cycle[0].points[100].range_m, scan.points[100].range_m);
+}
+
+// The surround rig's cycle: polygon all around the vehicle (it contains points ahead, behind
+// and to both sides of the reference point), the footprint free. Beside the car's middle the
+// corner scanners are blind (a wedge out to about 5 m); 4 s into the drive the front scanners
+// have seen that ground on the way.
+TEST(RigEstimator, SurroundPolygonReachesAllAround) {
+  sim::SimulationOptions options;
+  options.scenario = "urban";
+  options.seed = 1;
+  options.rig = "surround";
+  sim::Simulation simulation(options);
+  Config config = sim::WithRig(test::LoadProjectConfig("scala.yaml"), simulation.rig());
+  Estimator estimator(config);
+  std::vector<Scan> cycle;
+  const Result* r = nullptr;
+  for (int k = 0; k < 100 && simulation.NextCycle(&cycle); ++k) r = &estimator.ProcessCycle(cycle);
+  ASSERT_NE(r, nullptr);
+  ASSERT_EQ(r->polygon_status, PolygonStatus::kOk) << r->message;
+  EXPECT_TRUE(r->polygon_contains_vehicle);
+  ASSERT_EQ(r->cycle_sensor_poses.size(), 4u);
+  const Pose2D& c = r->sensor_pose;
+  int quadrants = 0;
+  for (int q = 0; q < 4; ++q) {
+    // A point beyond the car's body ahead, behind (4 m) and to either side (1.5 m) lies in the
+    // polygon: beyond the footprint, so the scanners saw it free.
+    const double a = c.yaw + q * M_PI / 2, d = q % 2 == 0 ? 4.0 : 1.5;
+    const Vec2 p(c.x + d * std::cos(a), c.y + d * std::sin(a));
+    EXPECT_TRUE(PointInPolygon(r->polygon, p)) << "direction " << q;
+    quadrants += PointInPolygon(r->polygon, p);
+  }
+  EXPECT_EQ(quadrants, 4);
+}
+
+TEST(RigLog, Version2CarriesTheRigAndEachScansSensor) {
+  const std::string path = ::testing::TempDir() + "/rig.fslog";
+  Config c = TwoAlike();
+  c.sensors[1].mount_yaw_deg = 180;
+  c.rig.footprint_length_m = 4.5;
+  {
+    NativeLogWriter writer(path, c.sensors, c.rig);
+    writer.Write(Wall(0.00, {0, 0, 0}, 0, 9.0));
+    writer.Write(Wall(0.00, {0, 0, 0}, 1, 7.0));
+    writer.Write(Wall(0.04, {0.5, 0, 0}, 1, 7.0));  // sensor 0 missed this cycle
+    writer.Write(Wall(0.08, {1.0, 0, 0}, 0, 8.0));
+    writer.Close();
+  }
+  {  // one more line with a sensor no SENSOR line names: reported, skipped
+    std::ofstream out(path, std::ios::app);
+    out << "SCAN 5 0.1 0 0 0 0\n";
+  }
+  auto reader = OpenLog(path);
+  ASSERT_EQ(reader->sensors().size(), 2u);
+  EXPECT_EQ(reader->sensors()[1].name, "b");
+  EXPECT_DOUBLE_EQ(reader->sensors()[1].mount_yaw_deg, 180.0);
+  EXPECT_DOUBLE_EQ(reader->rig().footprint_length_m, 4.5);
+  CycleReader cycles(*reader, 2);
+  std::vector<Scan> cycle;
+  std::vector<std::size_t> sizes;
+  while (cycles.Next(&cycle)) sizes.push_back(cycle.size());
+  EXPECT_EQ(sizes, (std::vector<std::size_t>{2, 2}));  // {0, 1}, then {1, 0}
+  const std::vector<LogIssue> issues = reader->TakeIssues();
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_NE(issues[0].message.find("sensor index '5'"), std::string::npos) << issues[0].message;
+
+  // A one-sensor log stays version 1 and gives one scan a cycle.
+  const std::string one = ::testing::TempDir() + "/one.fslog";
+  {
+    NativeLogWriter writer(one, std::vector<SensorConfig>{c.sensors[0]});
+    writer.Write(Wall(0.0, {0, 0, 0}, 0, 9.0));
+    writer.Write(Wall(0.04, {0, 0, 0}, 0, 9.0));
+    writer.Close();
+  }
+  std::ifstream in(one);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header, "FREESPACE_LOG 1");
+  auto r1 = OpenLog(one);
+  CycleReader c1(*r1, 1);
+  int n = 0;
+  while (c1.Next(&cycle)) n += cycle.size() == 1;
+  EXPECT_EQ(n, 2);
+}
+
+}  // namespace
+}  // namespace freespace
+
+namespace freespace {
+namespace {
+
+// A FLASER-layout line: n ranges, the laser pose, the odometry pose, timestamps.
+std::string FlaserLine(const char* name, int n, double range, const Pose2D& laser,
+                       const Pose2D& odometry, double t) {
+  std::string line = std::string(name) + " " + std::to_string(n);
+  for (int i = 0; i < n; ++i) line += " " + std::to_string(range);
+  char tail[200];
+  std::snprintf(tail, sizeof tail, " %.6f %.6f %.6f %.6f %.6f %.6f %.6f host %.6f\n", laser.x,
+                laser.y, laser.yaw, odometry.x, odometry.y, odometry.yaw, t, t);
+  return line + tail;
+}
+
+// A CARMEN log with a rear laser (RLASER): a rig of two, poses the odometry's, each laser at the
+// mount its first line gives.
+TEST(RigLog, CarmenRearLaserMakesARig) {
+  const std::string path = ::testing::TempDir() + "/rear.clf";
+  {
+    std::ofstream out(path);
+    for (int k = 0; k < 3; ++k) {
+      const Pose2D odo{1.0 * k, 2.0, M_PI / 2};
+      // Front laser 0.5 m ahead of the odometry origin, rear one 0.4 m behind, turned around.
+      out << FlaserLine("FLASER", 181, 5.0, {1.0 * k, 2.5, M_PI / 2}, odo, 0.1 * k);
+      out << FlaserLine("RLASER", 181, 4.0, {1.0 * k, 1.6, -M_PI / 2}, odo, 0.1 * k + 0.05);
+    }
+  }
+  auto reader = OpenLog(path);
+  const std::vector<SensorConfig> sensors = reader->sensors();
+  ASSERT_EQ(sensors.size(), 2u);
+  EXPECT_NEAR(sensors[0].mount_x_m, 0.5, 1e-6);
+  EXPECT_NEAR(sensors[0].mount_y_m, 0.0, 1e-6);
+  EXPECT_NEAR(sensors[1].mount_x_m, -0.4, 1e-6);
+  EXPECT_NEAR(std::abs(sensors[1].mount_yaw_deg), 180.0, 1e-4);
+  CycleReader cycles(*reader, 2);
+  std::vector<Scan> cycle;
+  int n = 0;
+  while (cycles.Next(&cycle)) {
+    ASSERT_EQ(cycle.size(), 2u);
+    EXPECT_EQ(cycle[0].sensor, 0);
+    EXPECT_EQ(cycle[1].sensor, 1);
+    EXPECT_NEAR(cycle[1].pose.y, 2.0, 1e-9);  // the odometry pose, not the laser's
+    EXPECT_EQ(cycle[1].points.size(), 181u);
+    ++n;
+  }
+  EXPECT_EQ(n, 3);
+  EXPECT_TRUE(reader->TakeIssues().empty());
+
+  // The rig runs: both lasers' walls are in the map.
+  Config config;
+  config.sensors = sensors;
+  Estimator estimator(config);
+  auto again = OpenLog(path);
+  CycleReader c2(*again, 2);
+  ASSERT_TRUE(c2.Next(&cycle));
+  const Result& r = estimator.ProcessCycle(cycle);
+  EXPECT_EQ(r.status, ScanStatus::kOk) << r.message;
+  EXPECT_EQ(r.cycle_sensor_poses.size(), 2u);
+}
+
+// Without a second laser a CARMEN log is one sensor at the laser poses, as always.
+TEST(RigLog, CarmenFrontLaserAloneIsOneSensor) {
+  const std::string path = ::testing::TempDir() + "/front.clf";
+  {
+    std::ofstream out(path);
+    out << FlaserLine("FLASER", 181, 5.0, {0.0, 2.5, 0.3}, {0, 2, 0.3}, 0.0);
+  }
+  auto reader = OpenLog(path);
+  ASSERT_EQ(reader->sensors().size(), 1u);
+  EXPECT_EQ(reader->sensor().mount_x_m, 0.0);
+  Scan scan;
+  ASSERT_TRUE(reader->Next(&scan));
+  EXPECT_NEAR(scan.pose.y, 2.5, 1e-9);  // the laser pose
+}
+
+}  // namespace
+}  // namespace freespace
