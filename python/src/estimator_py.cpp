@@ -82,15 +82,19 @@ py::array View(const T* data, int height, int width, const py::object& owner) {
 
 void BindScanAndResult(py::module_& m) {
   py::class_<PyScan>(m, "Scan", "One full scan: time (s), vehicle pose (x, y, yaw) and points.")
-      .def(py::init([](const py::array& points, const py::object& pose, double t) {
+      .def(py::init([](const py::array& points, const py::object& pose, double t, int sensor) {
              PyScan s;
              FillPoints(points, &s.scan.points);
              s.scan.pose = ToPose(pose);
              s.scan.timestamp_s = t;
+             s.scan.sensor = sensor;
              return s;
            }),
-           py::arg("points"), py::arg("pose"), py::arg("t"))
+           py::arg("points"), py::arg("pose"), py::arg("t"), py::arg("sensor") = 0)
       .def_property_readonly("t", [](const PyScan& s) { return s.scan.timestamp_s; })
+      .def_property_readonly(
+          "sensor", [](const PyScan& s) { return s.scan.sensor; },
+          "the sensor of a rig that took it (index into the config's sensors list); 0 for one")
       .def_property_readonly("pose", [](const PyScan& s) { return PoseTuple(s.scan.pose); })
       .def_property_readonly(
           "points", [](const PyScan& s) { return PointsArray(s.scan.points); },
@@ -167,6 +171,18 @@ class PyEstimator {
     py::gil_scoped_release release;
     lock.lock();
     Run(scan, &out);
+    return out;
+  }
+
+  PyResult ProcessCycle(const std::vector<Scan>& cycle) {
+    std::unique_lock<std::mutex> lock(mutex_, std::defer_lock);
+    PyResult out;
+    py::gil_scoped_release release;
+    lock.lock();
+    const Clock::time_point a = Clock::now();
+    const Result& r = estimator_->ProcessCycle(cycle);
+    last_call_us_ = std::chrono::duration<double, std::micro>(Clock::now() - a).count();
+    out.r = r;
     return out;
   }
 
@@ -281,6 +297,17 @@ void BindEstimator(py::module_& m) {
       .def(
           "process", [](PyEstimator& e, const PyScan& s) { return e.ProcessScan(s.scan); },
           py::arg("scan"), "Processes a freespace.Scan (from a reader or the simulator).")
+      .def(
+          "process_cycle",
+          [](PyEstimator& e, const std::vector<PyScan>& scans) {
+            std::vector<Scan> cycle;
+            cycle.reserve(scans.size());
+            for (const PyScan& s : scans) cycle.push_back(s.scan);
+            return e.ProcessCycle(cycle);
+          },
+          py::arg("scans"),
+          "Processes one cycle of a rig (the config's sensors list): a list of freespace.Scan, "
+          "at most one per sensor (Scan.sensor), each at its own time and pose.")
       .def("process", &PyEstimator::ProcessPoints, py::arg("points"), py::arg("pose"), py::arg("t"),
            "Processes one full scan: points (n, 4) (layer, angle rad, range m, echo 0/1) or a "
            "structured array with those fields, the vehicle pose (x, y, yaw) in world metres and "

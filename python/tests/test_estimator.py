@@ -179,6 +179,24 @@ class EstimatorTest(unittest.TestCase):
             for a, b in zip(got[k], expected):
                 np.testing.assert_array_equal(a, b)
 
+    def test_rig_cycle(self):
+        # Two sensors at one mount, each seeing the same wall: each scan of the cycle is fused
+        # once, so every cell holds twice what one scan gives it.
+        config = fs.Config.from_yaml("sensors:\n  - name: a\n  - name: b\n")
+        angles = np.radians(np.arange(-30.0, 30.25, 0.25))
+        points = np.column_stack([np.zeros_like(angles), angles, 12.0 / np.cos(angles),
+                                  np.ones_like(angles)])
+        a = fs.Scan(points, (0.0, 0.0, 0.0), 0.0, sensor=0)
+        b = fs.Scan(points, (0.0, 0.0, 0.0), 0.0, sensor=1)
+        self.assertEqual(b.sensor, 1)
+        rig = fs.Estimator(config)
+        r = rig.process_cycle([b, a])
+        self.assertEqual(r.status, "ok")
+        one = fs.Estimator(fs.Config())
+        one.process(a)
+        np.testing.assert_array_equal(rig.map().log_odds, 2 * one.map().log_odds.astype(np.int32))
+        self.assertEqual(rig.process_cycle([a, a]).reject_reason, "bad_cycle")
+
 
 class SameAsCliTest(unittest.TestCase):
     """Every polygon of a recorded log equals the one `freespace run` writes."""
