@@ -2,8 +2,9 @@
 // wall across the road at world x = 20 m, a gap in the scan, ground points below the cut) with
 // poses.txt, calib.txt and times.txt read back as scans at the poses of the matrices; the
 // scan's echoes land on the wall in the world; folders with too few or too many poses, a
-// malformed pose, an unreadable frame and no poses.txt reported; the layer-cut options change
-// the cut; `freespace run` on a folder writes polygons and names a bad option.
+// malformed pose, an unreadable frame and no poses.txt reported; poses/NN.txt beside
+// sequences/NN found; the layer-cut options change the cut; `freespace run` on a folder writes
+// polygons and names a bad option.
 #include <sys/wait.h>
 
 #include <cmath>
@@ -238,6 +239,21 @@ TEST(KittiSequence, AFolderWithoutPosesOrFramesIsRefused) {
       },
       InputError);
   EXPECT_THROW(OpenLog(TempDir("empty")), InputError);
+}
+
+TEST(KittiSequence, PosesFromTheBenchmarksOwnLayout) {
+  // sequences/07/ with its poses in poses/07.txt, as the benchmark's downloads unpack.
+  const std::string root = TempDir("layout");
+  fs::create_directories(root + "/sequences");
+  fs::create_directories(root + "/poses");
+  fs::rename(WriteSequence("layout07", {}), root + "/sequences/07");
+  fs::rename(root + "/sequences/07/poses.txt", root + "/poses/07.txt");
+  auto reader = OpenLog(root + "/sequences/07/");
+  const std::vector<Scan> scans = ReadAll(*reader);
+  EXPECT_EQ(Issues(*reader), "");
+  ASSERT_EQ(scans.size(), 3u);
+  EXPECT_NEAR(scans[1].pose.x, kPoses[1].x, 1e-9);
+  EXPECT_NEAR(scans[1].pose.yaw, kPoses[1].yaw, 1e-9);
 }
 
 TEST(KittiSequence, TheLayerCutOptionsChangeTheCut) {

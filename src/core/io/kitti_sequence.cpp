@@ -92,7 +92,8 @@ class KittiSequenceReader final : public LogReader {
       }
       cut_.Clear();
       std::vector<std::string> problems;
-      if (!fs::is_regular_file(path) || !CutVelodyneFrame(path, &cut_, &problems)) {
+      std::error_code error;
+      if (!fs::is_regular_file(path, error) || !CutVelodyneFrame(path, &cut_, &problems)) {
         Report(line(), "frame " + name + " skipped: cannot read " + path);
         continue;
       }
@@ -118,12 +119,13 @@ class KittiSequenceReader final : public LogReader {
   void ReadMount();
   std::string PoseWhy(long number) const {
     if (std::size_t(number) >= poses_.size()) {
-      return "poses.txt has " + std::to_string(poses_.size()) + " lines";
+      return pose_file_ + " has " + std::to_string(poses_.size()) + " lines";
     }
-    return "poses.txt line " + std::to_string(number + 1) + " is not a pose";
+    return pose_file_ + " line " + std::to_string(number + 1) + " is not a pose";
   }
 
   LayerCut cut_;
+  std::string pose_file_ = "poses.txt";               // its name, for messages
   std::vector<std::pair<long, std::string>> frames_;  // (number, path), by number
   std::vector<std::optional<Pose2D>> poses_;          // by frame number
   std::vector<std::optional<double>> times_;          // by frame number
@@ -136,9 +138,9 @@ class KittiSequenceReader final : public LogReader {
 // order of their numbers. Names that are not numbers and gaps in the numbering are reported.
 void KittiSequenceReader::ListFrames() {
   const fs::path root(path_);
-  const fs::path folder = fs::is_directory(root / "velodyne") ? root / "velodyne" : root;
-  std::map<long, std::string> frames_by_number;
   std::error_code error;
+  const fs::path folder = fs::is_directory(root / "velodyne", error) ? root / "velodyne" : root;
+  std::map<long, std::string> frames_by_number;
   for (const fs::directory_entry& e : fs::directory_iterator(folder, error)) {
     if (e.path().extension() != ".bin") continue;
     const std::optional<long> number = FrameNumber(e.path().stem().string());
@@ -166,12 +168,14 @@ void KittiSequenceReader::ListFrames() {
 
 // poses.txt in the folder, or the benchmark's own layout: sequences/NN/ beside poses/NN.txt.
 void KittiSequenceReader::ReadPoses() {
-  const fs::path root = fs::absolute(fs::path(path_)).lexically_normal();
-  fs::path file = root / "poses.txt";
+  std::error_code error;
+  const fs::path root = fs::absolute(fs::path(path_), error).lexically_normal();
+  fs::path file = fs::path(path_) / "poses.txt";
   const fs::path folder = root.has_filename() ? root : root.parent_path();
   const fs::path benchmark =
       folder.parent_path().parent_path() / "poses" / (folder.filename().string() + ".txt");
-  if (!fs::is_regular_file(file) && fs::is_regular_file(benchmark)) file = benchmark;
+  if (!fs::is_regular_file(file, error) && fs::is_regular_file(benchmark, error)) file = benchmark;
+  pose_file_ = file.filename().string();
   std::ifstream in(file);
   if (!in) {
     throw InputError(path_ + ": no poses.txt (one 3x4 camera pose per frame; the benchmark's " +
@@ -185,13 +189,13 @@ void KittiSequenceReader::ReadPoses() {
     if (ParseMatrix(text, 0, m, &why)) {
       poses_.back() = PoseFromCamera(m);
     } else {
-      Report(0, file.filename().string() + ":" + std::to_string(poses_.size()) + ": " + why);
+      Report(0, pose_file_ + ":" + std::to_string(poses_.size()) + ": " + why);
     }
   }
   const long frames_end = frames_.back().first + 1;
   if (long(poses_.size()) > frames_end) {
-    Report(0, file.filename().string() + " has " + std::to_string(poses_.size()) +
-                  " poses for frames 0 .. " + std::to_string(frames_end - 1) + ": the last " +
+    Report(0, pose_file_ + " has " + std::to_string(poses_.size()) + " poses for frames 0 .. " +
+                  std::to_string(frames_end - 1) + ": the last " +
                   std::to_string(long(poses_.size()) - frames_end) + " have no frame");
   }
 }
