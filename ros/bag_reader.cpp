@@ -1,20 +1,23 @@
 // A ROS 1 bag as a scan log (freespace_ros/bag.hpp): the bag's topics sorted by message type,
 // the scan and pose topics chosen (automatically when there is one of a kind), every pose
-// sample and static transform read once, then one Scan per LaserScan message with its pose
-// interpolated at the scan's stamp.
+// sample and static transform read once, then one Scan per LaserScan or PointCloud2 message
+// (read one at a time) with its pose interpolated at the scan's stamp.
 #include <geometry_msgs/Transform.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <vector>
 
+#include "cloud_cut.hpp"
 #include "freespace/errors.hpp"
 #include "freespace_ros/bag.hpp"
 #include "ros_frames.hpp"
@@ -23,31 +26,37 @@ namespace freespace::ros_bag {
 namespace {
 
 constexpr const char* kLaserScan = "sensor_msgs/LaserScan";
+constexpr const char* kPointCloud2 = "sensor_msgs/PointCloud2";
 constexpr const char* kOdometry = "nav_msgs/Odometry";
 
-// The topic of `type` to read: `requested` (which must have that type), else the only one.
-std::string ChooseTopic(const std::map<std::string, std::string>& types, const std::string& type,
-                        const std::string& requested, const std::string& option,
-                        const std::string& path) {
-  std::string listing, of_type;
+// The scan topic (of one of `types_wanted`) or pose topic to read: `requested` (which must have
+// such a type), else the only one.
+std::string ChooseTopic(const std::map<std::string, std::string>& types,
+                        const std::vector<std::string>& types_wanted, const std::string& requested,
+                        const std::string& option, const std::string& path) {
+  std::string listing, of_type, wanted;
   std::vector<std::string> candidates;
+  const auto is_wanted = [&](const std::string& t) {
+    return std::find(types_wanted.begin(), types_wanted.end(), t) != types_wanted.end();
+  };
+  for (const std::string& w : types_wanted) wanted += (wanted.empty() ? "" : " or ") + w;
   for (const auto& [topic, t] : types) {
     listing += (listing.empty() ? "" : ", ") + topic + " (" + t + ")";
-    if (t == type) candidates.push_back(topic);
+    if (is_wanted(t)) candidates.push_back(topic);
   }
   if (!requested.empty()) {
     const auto it = types.find(requested);
     if (it == types.end())
       throw InputError(path + ": no topic " + requested + "; it has " + listing);
-    if (it->second != type) {
-      throw InputError(path + ": topic " + requested + " holds " + it->second + ", not " + type);
+    if (!is_wanted(it->second)) {
+      throw InputError(path + ": topic " + requested + " holds " + it->second + ", not " + wanted);
     }
     return requested;
   }
   if (candidates.size() == 1) return candidates[0];
   if (candidates.empty()) return "";
   for (const std::string& c : candidates) of_type += (of_type.empty() ? "" : ", ") + c;
-  throw InputError(path + ": several " + type + " topics (" + of_type + "): choose one with " +
+  throw InputError(path + ": several " + wanted + " topics (" + of_type + "): choose one with " +
                    option);
 }
 
@@ -58,34 +67,19 @@ class BagReader : public LogReader {
     Load();
   }
 
-  bool Next(Scan* scan) override {
-    while (next_ < scans_.size()) {
-      current_ = next_++;
-      const sensor_msgs::LaserScan& s = *scans_[current_];
-      const double t = s.header.stamp.toSec();
-      std::string why;
-      if (!poses_.At(t, options_.max_pose_gap_s, &scan->pose, &why)) {
-        Report(current_ + 1, "scan at t = " + std::to_string(t) + " s skipped: " + why);
-        continue;
-      }
-      scan->timestamp_s = t;
-      FillPoints(s, scan);
-      return true;
-    }
-    return false;
-  }
+  bool Next(Scan* scan) override;
 
   // The 1-based index of the last scan message among the scan topic's messages.
-  std::size_t line() const override { return current_ + 1; }
-  double progress() const override {
-    return scans_.empty() ? 1.0 : double(next_) / double(scans_.size());
-  }
+  std::size_t line() const override { return current_; }
+  double progress() const override { return total_ == 0 ? 1.0 : double(current_) / double(total_); }
 
  private:
   void Load();
-  void ReadMessages(rosbag::Bag& bag, const std::string& scan_topic, const std::string& odom_topic);
-  void TakeSensor();
-  void TakeMount(const std::string& base_frame);
+  void ReadPoses(const std::string& odom_topic);
+  void TakeSensor(const rosbag::MessageInstance& first);
+  void TakeCloudSensor(const sensor_msgs::PointCloud2& first);
+  void TakeMount(const std::string& base_frame, const std::string& laser);
+  bool FillCloud(const sensor_msgs::PointCloud2& cloud, Scan* scan);
 
   // REP 117: +inf (or above range_max) is no echo; NaN, -inf and short ranges go on as they
   // are, for the estimator to count as invalid.
@@ -102,54 +96,134 @@ class BagReader : public LogReader {
   }
 
   BagOptions options_;
-  std::vector<sensor_msgs::LaserScan::ConstPtr> scans_;
+  rosbag::Bag bag_;
+  // The scan messages, read one at a time in the bag's (recording) order: a stamp before the
+  // previous scan's is the estimator's to report (clock jitter or a jump back), not the
+  // reader's to hide by sorting.
+  std::unique_ptr<rosbag::View> scans_;
+  rosbag::View::iterator it_;
+  bool clouds_ = false;   // PointCloud2 scans, else LaserScan
+  bool by_ring_ = false;  // clouds cut by their ring field
+  bool said_not_finite_ = false;
+  std::unique_ptr<io::LayerCut> cut_;
   PoseTrack poses_;
   FrameTree statics_;
-  std::string pose_source_;
-  std::size_t next_ = 0, current_ = 0;
+  std::size_t current_ = 0, total_ = 0;
 };
 
+bool BagReader::Next(Scan* scan) {
+  while (it_ != scans_->end()) {
+    ++current_;
+    try {
+      const rosbag::MessageInstance m = *it_;
+      ++it_;
+      const double t = m.getTime().toSec();
+      sensor_msgs::LaserScan::ConstPtr laser;
+      sensor_msgs::PointCloud2::ConstPtr cloud;
+      if (clouds_) {
+        cloud = m.instantiate<sensor_msgs::PointCloud2>();
+      } else {
+        laser = m.instantiate<sensor_msgs::LaserScan>();
+      }
+      if (!cloud && !laser) {
+        Report(current_, "message at t = " + std::to_string(t) + " s skipped: not readable");
+        continue;
+      }
+      const double stamp = clouds_ ? cloud->header.stamp.toSec() : laser->header.stamp.toSec();
+      std::string why;
+      if (!poses_.At(stamp, options_.max_pose_gap_s, &scan->pose, &why)) {
+        Report(current_, "scan at t = " + std::to_string(stamp) + " s skipped: " + why);
+        continue;
+      }
+      scan->timestamp_s = stamp;
+      if (clouds_) {
+        if (!FillCloud(*cloud, scan)) continue;
+      } else {
+        FillPoints(*laser, scan);
+      }
+      return true;
+    } catch (const std::exception& e) {
+      // A damaged message (rosbag throws on bytes it cannot deserialize): reported, skipped.
+      Report(current_, std::string("scan message skipped: ") + e.what());
+    }
+  }
+  return false;
+}
+
+// One PointCloud2 through the layer cut; false (reported) when its layout cannot be read.
+bool BagReader::FillCloud(const sensor_msgs::PointCloud2& cloud, Scan* scan) {
+  CloudLayout layout;
+  const std::string why = ReadLayout(cloud, &layout);
+  const std::string at = "point cloud at t = " + std::to_string(scan->timestamp_s) + " s";
+  if (!why.empty()) {
+    Report(current_, at + " skipped: " + why);
+    return false;
+  }
+  if (by_ring_ && layout.ring.offset < 0) {
+    Report(current_, at + " skipped: no integer ring field (the first cloud had one)");
+    return false;
+  }
+  CloudCounts counts;
+  CutCloud(cloud, layout, by_ring_, cut_.get(), &scan->points, &counts);
+  if (counts.ring_outside > 0) {
+    Report(current_, at + ": " + std::to_string(counts.ring_outside) + " of " +
+                         std::to_string(counts.points) + " points on a ring >= " +
+                         std::to_string(cut_->layers()) + " (the first cloud's rings) left out");
+  }
+  if (counts.not_finite > 0 && !said_not_finite_) {
+    said_not_finite_ = true;
+    Report(current_, at + ": " + std::to_string(counts.not_finite) + " of " +
+                         std::to_string(counts.points) +
+                         " points are NaN or infinite (an organized cloud's beams without "
+                         "return): left out, here and in later clouds without further notice");
+  }
+  return true;
+}
+
 void BagReader::Load() {
-  rosbag::Bag bag;
   try {
-    bag.open(path_, rosbag::bagmode::Read);
+    bag_.open(path_, rosbag::bagmode::Read);
   } catch (const rosbag::BagException& e) {
     throw InputError(path_ + ": not a readable ROS bag: " + e.what());
   }
   std::map<std::string, std::string> types;
-  for (const rosbag::ConnectionInfo* c : rosbag::View(bag).getConnections()) {
+  for (const rosbag::ConnectionInfo* c : rosbag::View(bag_).getConnections()) {
     types[c->topic] = c->datatype;
   }
   const std::string scan_topic =
-      ChooseTopic(types, kLaserScan, options_.scan_topic, "--scan-topic", path_);
-  if (scan_topic.empty()) throw InputError(path_ + ": no " + std::string(kLaserScan) + " topic");
+      ChooseTopic(types, {kLaserScan, kPointCloud2}, options_.scan_topic, "--scan-topic", path_);
+  if (scan_topic.empty()) {
+    throw InputError(path_ + ": no " + std::string(kLaserScan) + " or " + kPointCloud2 + " topic");
+  }
+  clouds_ = types[scan_topic] == kPointCloud2;
   const std::string odom_topic =
-      ChooseTopic(types, kOdometry, options_.odom_topic, "--odom-topic", path_);
-  ReadMessages(bag, scan_topic, odom_topic);
-  if (scans_.empty()) throw InputError(path_ + ": topic " + scan_topic + " has no message");
+      ChooseTopic(types, {kOdometry}, options_.odom_topic, "--odom-topic", path_);
+  ReadPoses(odom_topic);
+  scans_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(scan_topic));
+  total_ = scans_->size();
+  if (total_ == 0) throw InputError(path_ + ": topic " + scan_topic + " has no message");
+  const rosbag::MessageInstance first = *scans_->begin();
+  std::string base;
   if (odom_topic.empty()) {
     // No odometry topic: the vehicle's pose from /tf.
-    const std::string base = poses_.TakeFromTf(options_.base_frame, path_);
-    pose_source_ = "/tf " + base;
-    TakeMount(base);
+    base = poses_.TakeFromTf(options_.base_frame, path_);
   } else {
     if (poses_.empty()) throw InputError(path_ + ": topic " + odom_topic + " has no message");
-    pose_source_ = odom_topic;
-    TakeMount(options_.base_frame.empty() ? poses_.child_frame() : options_.base_frame);
+    base = options_.base_frame.empty() ? poses_.child_frame() : options_.base_frame;
   }
   poses_.Sort();
-  TakeSensor();
+  TakeSensor(first);
+  it_ = scans_->begin();
+  TakeMount(base, clouds_ ? first.instantiate<sensor_msgs::PointCloud2>()->header.frame_id
+                          : first.instantiate<sensor_msgs::LaserScan>()->header.frame_id);
 }
 
-void BagReader::ReadMessages(rosbag::Bag& bag, const std::string& scan_topic,
-                             const std::string& odom_topic) {
-  std::vector<std::string> topics = {scan_topic, "/tf", "/tf_static"};
+void BagReader::ReadPoses(const std::string& odom_topic) {
+  std::vector<std::string> topics = {"/tf", "/tf_static"};
   if (!odom_topic.empty()) topics.push_back(odom_topic);
-  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(topics))) {
+  for (const rosbag::MessageInstance& m : rosbag::View(bag_, rosbag::TopicQuery(topics))) {
     const std::string& topic = m.getTopic();
-    if (topic == scan_topic) {
-      scans_.push_back(m.instantiate<sensor_msgs::LaserScan>());
-    } else if (topic == odom_topic) {
+    if (topic == odom_topic) {
       const nav_msgs::Odometry::ConstPtr o = m.instantiate<nav_msgs::Odometry>();
       poses_.AddOdometry(o->header.stamp.toSec(), o->child_frame_id,
                          RigidFromPose(o->pose.pose.position.x, o->pose.pose.position.y,
@@ -167,13 +241,20 @@ void BagReader::ReadMessages(rosbag::Bag& bag, const std::string& scan_topic,
       }
     }
   }
-  // Scans stay in the bag's (recording) order: a stamp before the previous scan's is the
-  // estimator's to report (clock jitter or a jump back), not the reader's to hide by sorting.
 }
 
-// The sensor geometry from the first scan: one layer, its aperture, step and range limits.
-void BagReader::TakeSensor() {
-  const sensor_msgs::LaserScan& s = *scans_.front();
+// The sensor geometry from the first scan. LaserScan: one layer, its aperture, step and range
+// limits. PointCloud2: TakeCloudSensor.
+void BagReader::TakeSensor(const rosbag::MessageInstance& first) {
+  if (clouds_) {
+    const sensor_msgs::PointCloud2::ConstPtr cloud = first.instantiate<sensor_msgs::PointCloud2>();
+    if (!cloud) throw InputError(path_ + ": the first point cloud cannot be read");
+    TakeCloudSensor(*cloud);
+    return;
+  }
+  const sensor_msgs::LaserScan::ConstPtr scan = first.instantiate<sensor_msgs::LaserScan>();
+  if (!scan) throw InputError(path_ + ": the first scan cannot be read");
+  const sensor_msgs::LaserScan& s = *scan;
   if (s.ranges.empty() || !(s.angle_increment > 0)) {
     throw InputError(path_ + ": the first scan has no beams or angle_increment <= 0");
   }
@@ -187,9 +268,42 @@ void BagReader::TakeSensor() {
   sensor_.max_range_m = double(s.range_max);
 }
 
+// A point cloud's scan: the ScaLa aperture and resolution; layers by the ring field (ring r is
+// layer r, as many as the first cloud's largest ring + 1) or by the configured elevations.
+void BagReader::TakeCloudSensor(const sensor_msgs::PointCloud2& first) {
+  const std::string cut_why =
+      io::CheckElevationCut(options_.layer_elevations_deg, options_.layer_tolerance_deg);
+  if (!cut_why.empty()) throw InputError(path_ + ": layer cut: " + cut_why);
+  CloudLayout layout;
+  const std::string why = ReadLayout(first, &layout);
+  if (!why.empty()) throw InputError(path_ + ": the first point cloud: " + why);
+  if (layout.ring_not_integer) {
+    Report(0, "the point clouds' ring field is not an integer: layers by elevation");
+  }
+  const bool has_ring = layout.ring.offset >= 0;
+  if (options_.cloud_layers == CloudLayers::kRing && !has_ring) {
+    throw InputError(path_ +
+                     ": layers by ring asked for, but the point clouds have no integer "
+                     "ring field");
+  }
+  by_ring_ = has_ring && options_.cloud_layers != CloudLayers::kElevation;
+  sensor_ = SensorConfig{};
+  sensor_.layers = int(options_.layer_elevations_deg.size());
+  if (by_ring_) {
+    const int rings = RingLayers(first, layout);
+    if (rings < 1) throw InputError(path_ + ": the first point cloud has no finite point");
+    if (rings > 255) {
+      Report(0, "the first point cloud has rings up to " + std::to_string(rings - 1) +
+                    ": rings 255 and above are left out (255 layers at most)");
+    }
+    sensor_.layers = std::min(rings, 255);
+  }
+  cut_ = std::make_unique<io::LayerCut>(sensor_, options_.layer_elevations_deg,
+                                        options_.layer_tolerance_deg);
+}
+
 // The mount: the static transform from the base frame to the scan's frame.
-void BagReader::TakeMount(const std::string& base_frame) {
-  const std::string& laser = scans_.front()->header.frame_id;
+void BagReader::TakeMount(const std::string& base_frame, const std::string& laser) {
   Rigid2 mount;
   if (laser == base_frame || statics_.Find(base_frame, laser, &mount)) {
     sensor_.mount_x_m = mount.x;

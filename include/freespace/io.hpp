@@ -1,5 +1,6 @@
-// Readers and writers for scan logs: CARMEN (FLASER, ROBOTLASER1), single KITTI Velodyne
-// frames cut into a ScaLa-like 4-layer scan, and the project's own multi-layer log format
+// Readers and writers for scan logs: CARMEN (FLASER, ROBOTLASER1), KITTI Velodyne frames
+// (one .bin file, or an odometry benchmark sequence folder with poses) cut into a ScaLa-like
+// multi-layer scan, and the project's own multi-layer log format
 // (docs/formats.md). Malformed input is skipped and reported with file and line, never fatal
 // to the reader; the caller decides whether an issue stops the run.
 #pragma once
@@ -30,8 +31,9 @@ struct LogOptions {
   // CARMEN: ranges >= max_range - margin are "no echo". 0 = the largest range in the log
   // (the saturation value of the scanner, e.g. 81.83 in intel.clf).
   double carmen_max_range_m = 0.0;
-  // KITTI: the elevation (deg) of each cut layer; a point joins the nearest layer within
-  // kitti_layer_tolerance_deg. Azimuth aperture and binning follow kitti_sensor.
+  // KITTI: the elevation (deg) of each cut layer, 1 to 255 of them, increasing (layer 0 the
+  // lowest), each in (-90, 90); a point joins the nearest layer within
+  // kitti_layer_tolerance_deg, (0, 10]. Azimuth aperture and binning are the ScaLa's.
   std::vector<double> kitti_layer_elevations_deg = {-1.2, -0.4, 0.4, 1.2};
   double kitti_layer_tolerance_deg = 0.4;
 };
@@ -76,8 +78,10 @@ class LogReader {
   std::vector<LogIssue> issues_;
 };
 
-// Opens a log, detecting the format from the content when options.format is kAuto.
-// Throws InputError when the file cannot be opened or holds nothing recognisable.
+// Opens a log, detecting the format from the content when options.format is kAuto (a
+// directory is a KITTI sequence folder: velodyne/NNNNNN.bin, poses.txt, calib.txt, times.txt).
+// Throws InputError when the file cannot be opened or holds nothing recognisable, when a
+// sequence folder has no frames or no poses.txt, or when the KITTI layer cut is not valid.
 std::unique_ptr<LogReader> OpenLog(const std::string& path, const LogOptions& options = {});
 
 const char* ToString(LogFormat format);

@@ -1,8 +1,11 @@
-// ROS 1 bags on the command line (bag_options.hpp); the ROS side is freespace_ros (ros/).
+// ROS 1 bags and the layer cut on the command line (bag_options.hpp); the ROS side is
+// freespace_ros (ros/).
 #include "bag_options.hpp"
 
 #include <fstream>
+#include <sstream>
 
+#include "core/layer_cut.hpp"
 #include "freespace/errors.hpp"
 
 #ifdef FREESPACE_WITH_ROS
@@ -23,11 +26,24 @@ bool LooksLikeBag(const std::string& path) {
   return in.gcount() == 12 && std::string(head, 12) == "#ROSBAG V2.0";
 }
 
+// Throws InputError naming the option when the layer cut is not valid.
+void CheckLayerCut(const BagCliOptions& o) {
+  const std::string why = io::CheckElevationCut(o.layer_elevations_deg, o.layer_tolerance_deg);
+  if (why.empty()) return;
+  if (why.rfind("tolerance", 0) == 0) throw InputError("--kitti-layer-tolerance: " + why);
+  std::ostringstream given;
+  for (std::size_t i = 0; i < o.layer_elevations_deg.size(); ++i) {
+    given << (i ? "," : "") << o.layer_elevations_deg[i];
+  }
+  throw InputError("--kitti-layers " + given.str() + ": " + why);
+}
+
 }  // namespace
 
 void AddBagOptions(CLI::App* command, BagCliOptions* o) {
   command->add_option("--scan-topic", o->scan_topic,
-                      "ROS bag: the sensor_msgs/LaserScan topic (when the bag has several)");
+                      "ROS bag: the sensor_msgs/LaserScan or sensor_msgs/PointCloud2 topic (when\n"
+                      "the bag has several)");
   command->add_option("--odom-topic", o->odom_topic,
                       "ROS bag: the nav_msgs/Odometry topic (when several; none: poses from /tf)");
   command->add_option("--base-frame", o->base_frame,
@@ -38,16 +54,43 @@ void AddBagOptions(CLI::App* command, BagCliOptions* o) {
                       "/freespace/polygon (geometry_msgs/PolygonStamped), stamped like the scan");
   command->add_option("--out-bag-frame", o->out_bag_frame, "frame_id of the --out-bag messages")
       ->capture_default_str();
+  command
+      ->add_option("--kitti-layers", o->layer_elevations_deg,
+                   "KITTI frames and point clouds without ring field: the elevation (deg) of\n"
+                   "each cut layer, increasing, comma-separated (--kitti-layers=-1.2,-0.4,0.4,1.2)")
+      ->delimiter(',')
+      ->capture_default_str();
+  command
+      ->add_option("--kitti-layer-tolerance", o->layer_tolerance_deg,
+                   "A point joins the nearest cut layer within this many degrees, (0, 10]")
+      ->capture_default_str();
+  command
+      ->add_option("--cloud-layers", o->cloud_layers,
+                   "ROS bag PointCloud2 scans: layers by the ring field (ring r is layer r), by\n"
+                   "elevation (--kitti-layers), or auto (ring when the clouds have one)")
+      ->check(CLI::IsMember({"auto", "ring", "elevation"}))
+      ->capture_default_str();
 }
 
 std::unique_ptr<LogReader> OpenInput(const std::string& path, const LogOptions& log_options,
                                      const BagCliOptions& bag) {
-  if (!LooksLikeBag(path)) return OpenLog(path, log_options);
+  CheckLayerCut(bag);
+  if (!LooksLikeBag(path)) {
+    LogOptions options = log_options;
+    options.kitti_layer_elevations_deg = bag.layer_elevations_deg;
+    options.kitti_layer_tolerance_deg = bag.layer_tolerance_deg;
+    return OpenLog(path, options);
+  }
 #ifdef FREESPACE_WITH_ROS
   ros_bag::BagOptions options;
   options.scan_topic = bag.scan_topic;
   options.odom_topic = bag.odom_topic;
   options.base_frame = bag.base_frame;
+  options.layer_elevations_deg = bag.layer_elevations_deg;
+  options.layer_tolerance_deg = bag.layer_tolerance_deg;
+  options.cloud_layers = bag.cloud_layers == "ring"        ? ros_bag::CloudLayers::kRing
+                         : bag.cloud_layers == "elevation" ? ros_bag::CloudLayers::kElevation
+                                                           : ros_bag::CloudLayers::kAuto;
   return ros_bag::OpenRosBag(path, options);
 #else
   (void)bag;

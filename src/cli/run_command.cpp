@@ -358,12 +358,15 @@ Command AddRunCommand(CLI::App& app) {
       "world metres, at most N distinct vertices),\n"
       "OUT/summary.json (scans, skipped, rejected by reason, point counts, stage_us median and\n"
       "p99 per stage) and OUT/snapshot_<scan>.png every K scans and for the last scan.\n"
-      "Logs: CARMEN (FLASER, ROBOTLASER1), KITTI .bin frames, FREESPACE_LOG (docs/formats.md),\n"
-      "ROS 1 bags (sensor_msgs/LaserScan + nav_msgs/Odometry or /tf).\n"
+      "Logs: CARMEN (FLASER, ROBOTLASER1), KITTI .bin frames and sequence folders (velodyne/,\n"
+      "poses.txt, calib.txt, times.txt), FREESPACE_LOG (docs/formats.md), ROS 1 bags\n"
+      "(sensor_msgs/LaserScan or PointCloud2 + nav_msgs/Odometry or /tf).\n"
       "Without a `sensor` section in --config the sensor geometry comes from the log.");
-  command->add_option("--log", options->log, "Log file to process")
+  command
+      ->add_option("--log", options->log,
+                   "Log file to process, or a KITTI odometry sequence folder")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(CLI::ExistingPath);
   command->add_option("--out", options->out, "Output directory")->capture_default_str();
   command->add_option("--format", options->format, "Log format")
       ->check(CLI::IsMember({"auto", "carmen", "kitti", "freespace"}))

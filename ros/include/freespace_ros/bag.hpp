@@ -6,14 +6,20 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "freespace/io.hpp"
 #include "freespace/result.hpp"
 
 namespace freespace::ros_bag {
 
+// How a PointCloud2 scan's points are split into layers: kAuto by the ring field when the
+// clouds have an integer one, else by elevation; kRing requires the ring field.
+enum class CloudLayers { kAuto, kRing, kElevation };
+
 struct BagOptions {
-  std::string scan_topic;  // empty: the one sensor_msgs/LaserScan topic of the bag
+  // Empty: the one sensor_msgs/LaserScan or sensor_msgs/PointCloud2 topic of the bag.
+  std::string scan_topic;
   std::string odom_topic;  // empty: the one nav_msgs/Odometry topic, or /tf without one
   // The vehicle frame whose pose the scans need: empty takes Odometry's child_frame_id, or
   // with /tf "base_link" (or the one child frame /tf moves, when there is one).
@@ -21,18 +27,28 @@ struct BagOptions {
   // A scan farther than this from the nearest pose sample (before the first, after the last,
   // or in a gap between two samples) is skipped and reported.
   double max_pose_gap_s = 0.5;
+  // PointCloud2 scans: layers by ring or elevation, and the elevation cut (as
+  // LogOptions::kitti_layer_elevations_deg / kitti_layer_tolerance_deg).
+  CloudLayers cloud_layers = CloudLayers::kAuto;
+  std::vector<double> layer_elevations_deg = {-1.2, -0.4, 0.4, 1.2};
+  double layer_tolerance_deg = 0.4;
 };
 
 // True when the file starts with the ROS 1 bag header "#ROSBAG V2.0".
 bool IsRosBag(const std::string& path);
 
-// Opens a bag as a scan log: one full scan per LaserScan message, its pose interpolated in time
-// between the two nearest pose samples (x, y linearly, yaw along the shorter way). Beams follow
-// REP 117: +inf or a range above range_max is a beam without echo; NaN, -inf and ranges below
-// range_min are passed on as invalid ranges (the estimator counts them). The sensor mount comes
-// from /tf_static (base frame to the scan's frame_id); without one the reader's sensor() has a
-// zero mount and says so in an issue. Throws InputError when the bag cannot be read or the
-// topics are ambiguous or missing (the message lists the bag's topics).
+// Opens a bag as a scan log: one full scan per LaserScan or PointCloud2 message, its pose
+// interpolated in time between the two nearest pose samples (x, y linearly, yaw along the
+// shorter way). LaserScan beams follow REP 117: +inf or a range above range_max is a beam
+// without echo; NaN, -inf and ranges below range_min are passed on as invalid ranges (the
+// estimator counts them). A PointCloud2 (fields x, y, z float32 or float64, an optional integer
+// ring; either byte order) is cut like a KITTI frame into a ScaLa-like scan: per layer and
+// azimuth bin the nearest point is the echo, an empty bin a beam without echo; NaN points are
+// left out (reported once), a cloud without x, y, z is reported and skipped. The sensor mount
+// comes from /tf_static (base frame to the scan's frame_id); without one the reader's sensor()
+// has a zero mount and says so in an issue. Messages are read one at a time. Throws InputError
+// when the bag cannot be read, the topics are ambiguous or missing (the message lists the
+// bag's topics), the first cloud cannot be cut or the layer cut is not valid.
 std::unique_ptr<LogReader> OpenRosBag(const std::string& path, const BagOptions& options = {});
 
 // Writes per processed scan a nav_msgs/OccupancyGrid of the local map on `topic_prefix`/map and

@@ -1,4 +1,5 @@
 // LogReader basics and OpenLog(): format detection from the file's content.
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -64,6 +65,7 @@ bool CycleReader::Next(std::vector<Scan>* cycle) {
 namespace {
 
 LogFormat Detect(const std::string& path) {
+  if (std::filesystem::is_directory(path)) return LogFormat::kKitti;  // a sequence folder
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open");
   if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".bin") == 0) return LogFormat::kKitti;
@@ -78,7 +80,8 @@ LogFormat Detect(const std::string& path) {
       if (fields[0] == carmen) return LogFormat::kCarmen;
     }
     throw InputError(path + ": not a recognised log (first message '" + io::Excerpt(fields[0]) +
-                     "'; expected a CARMEN log, a KITTI .bin frame or a FREESPACE_LOG file)");
+                     "'; expected a CARMEN log, a KITTI .bin frame or sequence folder, or a "
+                     "FREESPACE_LOG file)");
   }
   throw InputError(path + ": empty log");
 }
@@ -89,10 +92,13 @@ std::unique_ptr<LogReader> OpenLog(const std::string& path, const LogOptions& op
   const LogFormat format = options.format == LogFormat::kAuto ? Detect(path) : options.format;
   switch (format) {
     case LogFormat::kCarmen:
+      if (std::filesystem::is_directory(path)) throw InputError(path + ": a directory");
       return io::OpenCarmen(path, options);
     case LogFormat::kKitti:
+      if (std::filesystem::is_directory(path)) return io::OpenKittiSequence(path, options);
       return io::OpenKitti(path, options);
     case LogFormat::kNative:
+      if (std::filesystem::is_directory(path)) throw InputError(path + ": a directory");
       return io::OpenNative(path, options);
     case LogFormat::kAuto:
       break;
