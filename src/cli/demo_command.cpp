@@ -101,7 +101,7 @@ class DemoRun {
     try {
       simulation_ = std::make_unique<sim::Simulation>(MakeSimulationOptions(options_.sim));
       MakeDirectories(options_.out);
-      writer_ = std::make_unique<sim::SimulationWriter>(options_.out, truth().scanner);
+      writer_ = std::make_unique<sim::SimulationWriter>(options_.out, truth());
       const SensorConfig sensor = truth().scanner.EngineSensor();
       config_ = LoadEngineConfig(options_.engine, &sensor, RoadConfig());
       estimator_ = std::make_unique<Estimator>(config_);
@@ -138,7 +138,7 @@ class DemoRun {
       if (!simulation_->Next(&scan, &sources)) break;
       simulate_us_.push_back(Micros(t0, Clock::now()));
       echoes_.Add(sources);
-      writer_->Write(scan);
+      writer_->Write(scan, simulation_->last());
 
       const Result& r = estimator_->Process(scan);
       if (r.status == ScanStatus::kRejected) {
@@ -166,7 +166,7 @@ class DemoRun {
       CheckWritten(options_.out + "/demo.avi");
     }
     polygons_->Close();
-    writer_->Close(truth());
+    writer_->Close();
   }
 
   // A video frame every --video-every scans, a snapshot every --snapshot-every and of the last

@@ -31,7 +31,7 @@ Simulation::Simulation(const SimulationOptions& options)
   truth_.odometry_noise = options.odometry;
   truth_.world = scenario_.world;
   truth_.world.tracks.clear();
-  truth_.scans.reserve(count_);
+  if (options.keep_truth_scans) truth_.scans.reserve(count_);
 }
 
 bool Simulation::Next(Scan* scan, std::vector<EchoSource>* sources) {
@@ -43,33 +43,47 @@ bool Simulation::Next(Scan* scan, std::vector<EchoSource>* sources) {
   scan->timestamp_s = t;
   scan->pose = {Round(odometry.x, 1e6), Round(odometry.y, 1e6), Round(odometry.yaw, 1e9)};
 
-  TruthScan truth;
-  truth.index = next_;
-  truth.t = t;
-  truth.pose = m.pose;
-  truth.odometry = scan->pose;
-  truth.sensor = Compose(m.pose, options_.scanner.mount());
-  truth.speed = m.speed;
-  truth.movers = scenario_.world.MoverPoses(t);
-  truth_.scans.push_back(std::move(truth));
+  last_.index = next_;
+  last_.t = t;
+  last_.pose = m.pose;
+  last_.odometry = scan->pose;
+  last_.sensor = Compose(m.pose, options_.scanner.mount());
+  last_.speed = m.speed;
+  last_.movers = scenario_.world.MoverPoses(t);
+  if (options_.keep_truth_scans) truth_.scans.push_back(last_);
   ++next_;
   return true;
 }
 
-SimulationWriter::SimulationWriter(const std::string& dir, const ScannerConfig& scanner)
+SimulationWriter::SimulationWriter(const std::string& dir, const Truth& header)
     : dir_(dir),
-      native_(dir + "/sim.fslog", scanner.EngineSensor()),
-      carmen_(dir + "/sim.clf", scanner.EngineSensor()) {}
+      native_(dir + "/sim.fslog", header.scanner.EngineSensor()),
+      carmen_(dir + "/sim.clf", header.scanner.EngineSensor()),
+      truth_(dir + "/truth.json", header) {}
 
-void SimulationWriter::Write(const Scan& scan) {
+void SimulationWriter::Write(const Scan& scan, const TruthScan& truth) {
   native_.Write(scan);
   carmen_.Write(scan);
+  truth_.Add(truth);
 }
 
-void SimulationWriter::Close(const Truth& truth) {
+void SimulationWriter::Close() {
   native_.Close();
   carmen_.Close();
-  WriteTruth(truth_path(), truth);
+  truth_.Close();
+}
+
+std::size_t WriteDrive(Simulation* simulation, SimulationWriter* writer,
+                       const std::function<void(const std::vector<EchoSource>&)>& each) {
+  Scan scan;
+  std::vector<EchoSource> sources;
+  std::size_t written = 0;
+  while (simulation->Next(&scan, &sources)) {
+    writer->Write(scan, simulation->last());
+    if (each) each(sources);
+    ++written;
+  }
+  return written;
 }
 
 }  // namespace freespace::sim

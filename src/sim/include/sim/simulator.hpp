@@ -4,8 +4,10 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "freespace/io.hpp"
 #include "freespace/scan.hpp"
@@ -22,6 +24,9 @@ struct SimulationOptions {
   double duration_s = 0.0;  // 0: the scenario's own duration
   OdometryNoise odometry;
   ScannerConfig scanner;
+  // Keep every scan's truth in truth().scans (for scoring the drive in memory); false keeps
+  // only the last scan's, so that memory does not grow with the drive.
+  bool keep_truth_scans = true;
 };
 
 class Simulation {
@@ -30,13 +35,15 @@ class Simulation {
   explicit Simulation(const SimulationOptions& options);
 
   // Simulates the next scan into `scan` (pose: the odometry, rounded as the log writes it, so
-  // that a log read back gives the same scans) and appends its truth. False when done.
+  // that a log read back gives the same scans) and takes its truth (last(); appended to
+  // truth().scans when kept). False when done.
   bool Next(Scan* scan, std::vector<EchoSource>* sources = nullptr);
 
   std::size_t scan_count() const { return count_; }  // scans the drive has
   const Scenario& scenario() const { return scenario_; }
-  const Truth& truth() const { return truth_; }  // the header and the scans so far
-  const TruthScan& last() const { return truth_.scans.back(); }
+  // The header and, with keep_truth_scans, the scans so far.
+  const Truth& truth() const { return truth_; }
+  const TruthScan& last() const { return last_; }  // the truth of the last scan
 
  private:
   SimulationOptions options_;
@@ -44,17 +51,20 @@ class Simulation {
   std::unique_ptr<ScanSimulator> scanner_;
   Odometry odometry_;
   Truth truth_;
+  TruthScan last_;
   std::size_t count_ = 0;
   std::size_t next_ = 0;
 };
 
-// Writes a drive into a folder: sim.fslog (FREESPACE_LOG), sim.clf (one ROBOTLASER1 line per
-// layer) and, on Close(), truth.json. Throws InputError when a file cannot be written.
+// Writes a drive into a folder scan by scan: sim.fslog (FREESPACE_LOG), sim.clf (one
+// ROBOTLASER1 line per layer) and truth.json (TruthWriter), nothing kept per scan. Throws
+// OutputError when a file cannot be created or written.
 class SimulationWriter {
  public:
-  SimulationWriter(const std::string& dir, const ScannerConfig& scanner);
-  void Write(const Scan& scan);
-  void Close(const Truth& truth);
+  // `header`: the drive's truth without scans (Simulation::truth(); its scans are not written).
+  SimulationWriter(const std::string& dir, const Truth& header);
+  void Write(const Scan& scan, const TruthScan& truth);
+  void Close();  // ends the three files
 
   std::string log_path() const { return dir_ + "/sim.fslog"; }
   std::string carmen_path() const { return dir_ + "/sim.clf"; }
@@ -64,6 +74,13 @@ class SimulationWriter {
   std::string dir_;
   NativeLogWriter native_;
   RobotLaserWriter carmen_;
+  TruthWriter truth_;
 };
+
+// Simulates the rest of `simulation` into `writer` (Close() left to the caller), calling `each`
+// (when set) with every scan's echo sources. Returns the scans written. With
+// keep_truth_scans false, memory stays the same however long the drive.
+std::size_t WriteDrive(Simulation* simulation, SimulationWriter* writer,
+                       const std::function<void(const std::vector<EchoSource>&)>& each = nullptr);
 
 }  // namespace freespace::sim
