@@ -233,6 +233,7 @@ TEST(Io, LargeKittiFrameIsReadInBoundedMemory) {
   }
   const long peak = PeakHeapBytes() - before;
   std::remove(large.c_str());
+  std::printf("peak heap reading a %zu MB frame: %ld kB\n", kSize >> 20, peak / 1024);
   EXPECT_LT(peak, long(kSize / 32)) << "peak heap while reading: " << peak << " bytes";
   EXPECT_TRUE(issues.empty());
 
