@@ -1,6 +1,7 @@
 // The soak run: see soak.hpp and docs/bench.md.
 #include "eval/soak.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -114,7 +115,11 @@ SoakSummary Summarize(const SoakReport& report) {
   const SoakSample &first = v.front(), &last = v.back(), &half = v[(v.size() - 1) / 2];
   s.rss_first_kb = first.memory.rss_kb;
   s.rss_last_kb = last.memory.rss_kb;
-  s.rss_peak_kb = last.memory.hwm_kb;
+  // The kernel raises VmHWM lazily (it can read below an earlier VmRSS): the peak is the most
+  // either showed.
+  for (const SoakSample& x : v) {
+    s.rss_peak_kb = std::max({s.rss_peak_kb, x.memory.rss_kb, x.memory.hwm_kb});
+  }
   s.rss_growth_kb_per_10k =
       GrowthPer10k(half.memory.rss_kb, last.memory.rss_kb, half.scans, last.scans);
   s.heap_growth_kb_per_10k =

@@ -58,8 +58,9 @@ struct SoakReport {
 // Estimator and the simulation throw (ConfigError, BackendError, std::invalid_argument).
 SoakReport RunSoak(const Config& config, const SoakOptions& options);
 
-// The figures the summary prints, from the samples: growth is between the first sample of the
-// second half and the last, per 10,000 scans; early and late are the first and the last window.
+// The figures the summary prints, from the samples: the peak is the largest VmRSS or VmHWM of
+// any sample; growth is between the first sample of the second half and the last, per 10,000
+// scans; early and late are the first and the last window.
 struct SoakSummary {
   long rss_first_kb = -1, rss_last_kb = -1, rss_peak_kb = -1;
   double rss_growth_kb_per_10k = 0.0, heap_growth_kb_per_10k = 0.0;
