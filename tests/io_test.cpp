@@ -1,8 +1,12 @@
 // Readers and writers: CARMEN FLASER and ROBOTLASER1 (with malformed and truncated lines), the
 // project's own log format round trip, KITTI frames cut into a ScaLa-like scan, and the real
-// logs in the shared data folder.
+// logs in the shared data folder; a large KITTI frame read in bounded memory.
+#include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <sstream>
 
+#include "alloc_counter.hpp"
 #include "test_util.hpp"
 
 namespace freespace {
@@ -193,6 +197,58 @@ TEST(Io, KittiFrameIsCutIntoAScalaLikeScan) {
   EXPECT_EQ(r.status, ScanStatus::kOk);
   EXPECT_GT(r.stats.kept, 500);
   EXPECT_TRUE(r.polygon_contains_vehicle);
+}
+
+// A 64 MB frame (the recorded one over and over, then one nearer point straight ahead in the
+// layer at +0.4 deg) is read in chunks: the heap's peak while reading stays far below the
+// file's size, and the scan is the recorded frame's with that one beam nearer.
+TEST(Io, LargeKittiFrameIsReadInBoundedMemory) {
+  FREESPACE_REQUIRE_DATA("kitti/kitti_00_000000.bin", path);
+  std::ostringstream bytes;
+  bytes << std::ifstream(path, std::ios::binary).rdbuf();
+  const std::string frame = bytes.str();
+  ASSERT_EQ(frame.size() % 16, 0u);
+  Scan recorded;
+  ASSERT_TRUE(OpenLog(path)->Next(&recorded));
+
+  const std::string large = ::testing::TempDir() + "/large_frame.bin";
+  constexpr std::size_t kSize = std::size_t(64) << 20;
+  {
+    std::ofstream out(large, std::ios::binary | std::ios::trunc);
+    for (std::size_t written = 0; written < kSize; written += frame.size()) {
+      out.write(frame.data(), std::streamsize(frame.size()));
+    }
+    const float nearer[4] = {3.0f, 0.0f, float(3.0 * std::tan(0.4 * M_PI / 180.0)), 0.5f};
+    out.write(reinterpret_cast<const char*>(nearer), sizeof nearer);
+    ASSERT_TRUE(out.good());
+  }
+  const long before = LiveHeapBytes();
+  ResetPeakHeapBytes();
+  Scan scan;
+  std::vector<LogIssue> issues;
+  {
+    auto reader = OpenLog(large);
+    ASSERT_TRUE(reader->Next(&scan));
+    issues = reader->TakeIssues();
+  }
+  const long peak = PeakHeapBytes() - before;
+  std::remove(large.c_str());
+  std::printf("peak heap reading a %zu MB frame: %ld kB\n", kSize >> 20, peak / 1024);
+  EXPECT_LT(peak, long(kSize / 32)) << "peak heap while reading: " << peak << " bytes";
+  EXPECT_TRUE(issues.empty());
+
+  ASSERT_EQ(scan.points.size(), recorded.points.size());
+  int changed = 0;
+  for (std::size_t i = 0; i < scan.points.size(); ++i) {
+    const ScanPoint &a = scan.points[i], &b = recorded.points[i];
+    if (a.range_m == b.range_m && a.angle_rad == b.angle_rad && a.echo == b.echo) continue;
+    ++changed;
+    EXPECT_EQ(a.layer, 2);
+    EXPECT_TRUE(a.echo);
+    EXPECT_FLOAT_EQ(a.range_m, 3.0f);
+    EXPECT_FLOAT_EQ(a.angle_rad, 0.0f);
+  }
+  EXPECT_EQ(changed, 1);
 }
 
 }  // namespace

@@ -246,14 +246,14 @@ TEST(Metrics, ScoresFromTheWrittenLogAndTruthEqualTheDrivesOwn) {
   options.duration_s = 3.0;
   options.odometry = sim::OdometryNoise::Preset("typical");
   sim::Simulation simulation(options);
-  sim::SimulationWriter writer(dir, simulation.truth().scanner);
+  sim::SimulationWriter writer(dir, simulation.truth());
   std::vector<Scan> scans;
   Scan scan;
   while (simulation.Next(&scan)) {
-    writer.Write(scan);
+    writer.Write(scan, simulation.last());
     scans.push_back(scan);
   }
-  writer.Close(simulation.truth());
+  writer.Close();
   const std::vector<ScanMetrics> live = Score(simulation.truth(), scans);
 
   auto reader = OpenLog(writer.log_path());

@@ -384,14 +384,14 @@ std::vector<Scan> SimulateInto(const std::string& dir, const std::string& scenar
   options.duration_s = seconds;
   options.odometry = OdometryNoise::Preset(noise);
   Simulation simulation(options);
-  SimulationWriter writer(dir, simulation.truth().scanner);
+  SimulationWriter writer(dir, simulation.truth());
   std::vector<Scan> scans;
   Scan scan;
   while (simulation.Next(&scan)) {
-    writer.Write(scan);
+    writer.Write(scan, simulation.last());
     scans.push_back(scan);
   }
-  writer.Close(simulation.truth());
+  writer.Close();
   return scans;
 }
 

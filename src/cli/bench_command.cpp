@@ -3,7 +3,9 @@
 // footprint holes, Moire cells, conflicts and, on a simulated scenario, accuracy against the
 // truth), vehicle on a circle vs a rotated map (time and error against a world-fixed reference),
 // TBB vs OpenCL; with --scaling, time against map size and against points per scan, per
-// backend, drawn as PNG plots. Field definitions: docs/bench.md.
+// backend, drawn as PNG plots; with --soak N, instead, one estimator over N scans of a long
+// simulated drive, its memory and scan times sampled as it goes. Field definitions:
+// docs/bench.md.
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -11,8 +13,10 @@
 #include "commands.hpp"
 #include "engine_options.hpp"
 #include "eval/bench_report.hpp"
+#include "eval/soak.hpp"
 #include "freespace/freespace.hpp"
 #include "output/plot.hpp"
+#include "output/text_file.hpp"
 #include "quality_report.hpp"
 #include "sim_options.hpp"
 
@@ -29,6 +33,8 @@ struct BenchCommandOptions {
   int warmup = 10;
   bool json = false;
   bool scaling = false;
+  int soak = 0;  // --soak N: the soak run instead of the suite
+  int soak_every = 1000;
   EngineOptions engine;
 };
 
@@ -152,6 +158,53 @@ int RunRig(const BenchCommandOptions& options) {
   return kExitOk;
 }
 
+// Prints a soak sample's memory and times as progress.
+void PrintSoakProgress(const SoakSample& s, int total) {
+  std::fprintf(stderr,
+               "freespace bench: soak %zu / %d scans (lap %zu): RSS %.1f MB, heap %.1f MB, "
+               "median %.0f us, p99 %.0f us\n",
+               s.scans, total, s.lap, s.memory.rss_kb / 1024.0, s.memory.heap_kb / 1024.0,
+               s.median_us, s.p99_us);
+}
+
+// --soak N: one estimator of the config over N scans of laps of the scenario (docs/bench.md),
+// memory and scan times sampled every --soak-every scans; OUT/soak.csv, OUT/soak.json and the
+// summary printed.
+int RunSoakCommand(const BenchCommandOptions& options) {
+  SoakOptions soak;
+  SoakReport report;
+  try {
+    soak.drive = MakeSimulationOptions(options.sim);
+    soak.scans = std::size_t(options.soak);
+    soak.every = std::size_t(options.soak_every);
+    if (!options.json) {
+      soak.on_sample = [total = options.soak](const SoakSample& s) { PrintSoakProgress(s, total); };
+    }
+    const SensorConfig sensor = soak.drive.scanner.EngineSensor();
+    const Config config = LoadEngineConfig(options.engine, &sensor);
+    MakeDirectories(options.out);
+    report = RunSoak(config, soak);
+  } catch (const std::exception& e) {
+    std::cerr << "freespace bench: " << e.what() << "\n";
+    return kExitSetup;
+  }
+  const nlohmann::json json = SoakJson(report);
+  try {
+    WriteTextFile(options.out + "/" + kSoakCsvFile, SoakCsv(report));
+    WriteJson(options.out + "/" + kSoakJsonFile, json);
+  } catch (const std::exception& e) {
+    std::cerr << "freespace bench: " << e.what() << "\n";
+    return kExitSetup;
+  }
+  if (options.json) {
+    std::cout << json.dump(1) << "\n";
+    return kExitOk;
+  }
+  PrintSoakReport(stdout, report);
+  std::printf("\nWrote %s/%s and %s\n", options.out.c_str(), kSoakCsvFile, kSoakJsonFile);
+  return kExitOk;
+}
+
 int Run(const BenchCommandOptions& options) {
   Config config;
   BenchSource source;
@@ -202,7 +255,9 @@ Command AddBenchCommand(CLI::App& app) {
       "inverse sensor model (time, footprint holes, Moire cells, conflicts; on a scenario also\n"
       "accuracy against the truth), vehicle on a circle vs a rotated map (time, error against a\n"
       "world-fixed reference map), TBB vs OpenCL; --scaling adds time against map size and\n"
-      "against points per scan (PNG plots). Writes OUT/bench.json (docs/bench.md).");
+      "against points per scan (PNG plots). Writes OUT/bench.json (docs/bench.md). --soak N\n"
+      "instead runs one estimator over N scans of laps of the scenario and samples memory and\n"
+      "scan times every --soak-every scans (OUT/soak.csv, OUT/soak.json).");
   CLI::Option* log =
       command->add_option("--log", options->log, "Log to replay")->check(CLI::ExistingFile);
   command->add_option("--out", options->out, "Output directory")->capture_default_str();
@@ -215,6 +270,14 @@ Command AddBenchCommand(CLI::App& app) {
   command->add_flag("--json", options->json, "Print the report as JSON");
   command->add_flag("--scaling", options->scaling,
                     "Also time map sizes 150^2 .. 3000^2 and 500 .. 8000 points a scan");
+  command
+      ->add_option("--soak", options->soak,
+                   "Soak run: N scans of laps of --scenario through one estimator (seed, seed+1, "
+                   "...; --duration: each lap's)")
+      ->check(CLI::PositiveNumber);
+  command->add_option("--soak-every", options->soak_every, "Scans per soak sample")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   AddSimOptions(command, &options->sim);
   CLI::Option* scenario = command->get_option("--scenario");
   log->excludes(scenario);
@@ -232,6 +295,14 @@ Command AddBenchCommand(CLI::App& app) {
                 return kExitSetup;
               }
               return RunRig(*options);
+            }
+            if (options->soak > 0) {
+              if (!options->scenario) {
+                std::cerr << "freespace bench: --soak needs --scenario NAME (it simulates the "
+                             "drive)\n";
+                return kExitSetup;
+              }
+              return RunSoakCommand(*options);
             }
             return Run(*options);
           }};

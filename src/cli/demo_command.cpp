@@ -101,7 +101,7 @@ class DemoRun {
     try {
       simulation_ = std::make_unique<sim::Simulation>(MakeSimulationOptions(options_.sim));
       MakeDirectories(options_.out);
-      writer_ = std::make_unique<sim::SimulationWriter>(options_.out, truth().rig);
+      writer_ = std::make_unique<sim::SimulationWriter>(options_.out, truth());
       const Config rig = sim::WithRig(Config(), truth().rig);
       LogSensors sensors;
       sensors.sensors = rig.is_rig() ? rig.sensors : std::vector<SensorConfig>{rig.sensor};
@@ -147,7 +147,7 @@ class DemoRun {
       if (!simulation_->NextCycle(&cycle, &sources)) break;
       simulate_us_.push_back(Micros(t0, Clock::now()));
       echoes_.Add(sources);
-      for (const Scan& scan : cycle) writer_->Write(scan);
+      writer_->Write(cycle, simulation_->last());
 
       const Result& r = estimator_->ProcessCycle(cycle);
       if (r.status == ScanStatus::kRejected) {
@@ -175,7 +175,7 @@ class DemoRun {
       CheckWritten(options_.out + "/demo.avi");
     }
     polygons_->Close();
-    writer_->Close(truth());
+    writer_->Close();
   }
 
   // A video frame every --video-every scans, a snapshot every --snapshot-every and of the last

@@ -19,21 +19,19 @@ struct SimulateOptions {
 int Simulate(const SimulateOptions& options) {
   const auto started = std::chrono::steady_clock::now();
   try {
-    sim::Simulation simulation(MakeSimulationOptions(options.sim));
+    sim::SimulationOptions sim_options = MakeSimulationOptions(options.sim);
+    sim_options.keep_truth_scans = false;  // written scan by scan: memory bounded
+    sim::Simulation simulation(sim_options);
     MakeDirectories(options.out);
-    sim::SimulationWriter writer(options.out, simulation.rig());
+    sim::SimulationWriter writer(options.out, simulation.truth());
     std::cerr << "freespace simulate: " << simulation.scenario().name << " (seed "
               << options.sim.seed << "): " << simulation.scenario().description << "; "
               << simulation.scan_count() << " scans\n";
-    std::vector<Scan> cycle;
-    std::vector<sim::EchoSource> sources;
     EchoCounts counts;
-    while (simulation.NextCycle(&cycle, &sources)) {
-      for (const Scan& scan : cycle) writer.Write(scan);
+    sim::WriteDrive(&simulation, &writer, [&counts](const std::vector<sim::EchoSource>& sources) {
       counts.Add(sources);
-      sources.clear();
-    }
-    writer.Close(simulation.truth());
+    });
+    writer.Close();
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     std::cerr << "freespace simulate: " << counts.ToString() << "\n"

@@ -39,7 +39,7 @@ Simulation::Simulation(const SimulationOptions& options)
   truth_.odometry_noise = options.odometry;
   truth_.world = scenario_.world;
   truth_.world.tracks.clear();
-  truth_.scans.reserve(count_);
+  if (options.keep_truth_scans) truth_.scans.reserve(count_);
 }
 
 bool Simulation::Next(Scan* scan, std::vector<EchoSource>* sources) {
@@ -74,15 +74,14 @@ double Simulation::Step(Scan* scan, std::vector<EchoSource>* sources, const Pose
   scan->timestamp_s = t;
   scan->pose = {Round(odometry.x, 1e6), Round(odometry.y, 1e6), Round(odometry.yaw, 1e9)};
 
-  TruthScan truth;
-  truth.index = next_;
-  truth.t = t;
-  truth.pose = m.pose;
-  truth.odometry = scan->pose;
-  truth.sensor = Compose(m.pose, sensor_mount);
-  truth.speed = m.speed;
-  truth.movers = scenario_.world.MoverPoses(t);
-  truth_.scans.push_back(std::move(truth));
+  last_.index = next_;
+  last_.t = t;
+  last_.pose = m.pose;
+  last_.odometry = scan->pose;
+  last_.sensor = Compose(m.pose, sensor_mount);
+  last_.speed = m.speed;
+  last_.movers = scenario_.world.MoverPoses(t);
+  if (options_.keep_truth_scans) truth_.scans.push_back(last_);
   ++next_;
   scan->sensor = 0;
   return t;
@@ -97,27 +96,47 @@ std::vector<SensorConfig> EngineSensors(const Rig& rig) {
 
 }  // namespace
 
-SimulationWriter::SimulationWriter(const std::string& dir, const ScannerConfig& scanner)
+SimulationWriter::SimulationWriter(const std::string& dir, const Truth& header)
     : dir_(dir),
-      native_(dir + "/sim.fslog", scanner.EngineSensor()),
-      carmen_(std::make_unique<RobotLaserWriter>(dir + "/sim.clf", scanner.EngineSensor())) {}
-
-SimulationWriter::SimulationWriter(const std::string& dir, const Rig& rig)
-    : dir_(dir), native_(dir + "/sim.fslog", EngineSensors(rig), rig.vehicle) {
-  if (!rig.several()) {
-    carmen_ = std::make_unique<RobotLaserWriter>(dir + "/sim.clf", EngineSensors(rig).front());
+      native_(dir + "/sim.fslog", EngineSensors(header.rig), header.rig.vehicle),
+      truth_(dir + "/truth.json", header) {
+  if (!header.rig.several()) {
+    carmen_ = std::make_unique<RobotLaserWriter>(dir + "/sim.clf", header.scanner.EngineSensor());
   }
 }
 
-void SimulationWriter::Write(const Scan& scan) {
-  native_.Write(scan);
-  if (carmen_) carmen_->Write(scan);
+void SimulationWriter::Write(const std::vector<Scan>& cycle, const TruthScan& truth) {
+  for (const Scan& scan : cycle) {
+    native_.Write(scan);
+    if (carmen_) carmen_->Write(scan);
+  }
+  truth_.Add(truth);
 }
 
-void SimulationWriter::Close(const Truth& truth) {
+void SimulationWriter::Write(const Scan& scan, const TruthScan& truth) {
+  native_.Write(scan);
+  if (carmen_) carmen_->Write(scan);
+  truth_.Add(truth);
+}
+
+void SimulationWriter::Close() {
   native_.Close();
   if (carmen_) carmen_->Close();
-  WriteTruth(truth_path(), truth);
+  truth_.Close();
+}
+
+std::size_t WriteDrive(Simulation* simulation, SimulationWriter* writer,
+                       const std::function<void(const std::vector<EchoSource>&)>& each) {
+  std::vector<Scan> cycle;
+  std::vector<EchoSource> sources;
+  std::size_t written = 0;
+  while (simulation->NextCycle(&cycle, each ? &sources : nullptr)) {
+    writer->Write(cycle, simulation->last());
+    if (each) each(sources);
+    sources.clear();
+    ++written;
+  }
+  return written;
 }
 
 }  // namespace freespace::sim

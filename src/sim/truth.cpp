@@ -83,9 +83,20 @@ ScannerConfig ScannerFrom(const json& j) {
   return c;
 }
 
-}  // namespace
+json ScanJson(const TruthScan& s) {
+  json movers = json::array();
+  for (const Pose2D& p : s.movers) movers.push_back(PoseJson(p));
+  return {{"scan", s.index},
+          {"t", s.t},
+          {"pose", PoseJson(s.pose)},
+          {"odometry", PoseJson(s.odometry)},
+          {"sensor", PoseJson(s.sensor)},
+          {"speed", s.speed},
+          {"movers", movers}};
+}
 
-void WriteTruth(const std::string& path, const Truth& truth) {
+// The whole document but the scans, "scans" an empty array.
+json HeaderJson(const Truth& truth) {
   json obstacles = json::array();
   for (const Obstacle& o : truth.world.obstacles) {
     json outline = json::array();
@@ -98,39 +109,68 @@ void WriteTruth(const std::string& path, const Truth& truth) {
     if (o.mover >= 0) j["mover"] = o.mover;
     obstacles.push_back(std::move(j));
   }
-  json scans = json::array();
-  for (const TruthScan& s : truth.scans) {
-    json movers = json::array();
-    for (const Pose2D& p : s.movers) movers.push_back(PoseJson(p));
-    scans.push_back({{"scan", s.index},
-                     {"t", s.t},
-                     {"pose", PoseJson(s.pose)},
-                     {"odometry", PoseJson(s.odometry)},
-                     {"sensor", PoseJson(s.sensor)},
-                     {"speed", s.speed},
-                     {"movers", movers}});
-  }
   const OdometryNoise& n = truth.odometry_noise;
-  const json doc = {{"format", "freespace-truth"},
-                    {"version", 1},
-                    {"scenario", truth.scenario},
-                    {"description", truth.description},
-                    {"seed", truth.seed},
-                    {"scanner", ScannerJson(truth.scanner)},
-                    {"rig", truth.rig.name},
-                    {"odometry_noise",
-                     {{"speed_scale_error", n.speed_scale_error},
-                      {"speed_sigma_mps", n.speed_sigma_mps},
-                      {"yaw_rate_bias_dps", n.yaw_rate_bias_dps},
-                      {"yaw_rate_sigma_dps", n.yaw_rate_sigma_dps}}},
-                    {"movers", truth.world.movers},
-                    {"obstacles", obstacles},
-                    {"scans", scans}};
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw OutputError(path + ": cannot create");
-  out << doc.dump(1) << "\n";
-  out.close();
-  if (out.fail()) throw OutputError(path + ": write failed");
+  return {{"format", "freespace-truth"},
+          {"version", 1},
+          {"scenario", truth.scenario},
+          {"description", truth.description},
+          {"seed", truth.seed},
+          {"scanner", ScannerJson(truth.scanner)},
+          {"odometry_noise",
+           {{"speed_scale_error", n.speed_scale_error},
+            {"speed_sigma_mps", n.speed_sigma_mps},
+            {"yaw_rate_bias_dps", n.yaw_rate_bias_dps},
+            {"yaw_rate_sigma_dps", n.yaw_rate_sigma_dps}}},
+          {"movers", truth.world.movers},
+          {"obstacles", obstacles},
+          {"scans", json::array()}};
+}
+
+}  // namespace
+
+TruthWriter::TruthWriter(const std::string& path, const Truth& header)
+    : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
+  if (!out_) throw OutputError(path + ": cannot create");
+  // JSON strings hold no raw newline, so the top-level key is the one match.
+  const std::string text = HeaderJson(header).dump(1);
+  const std::string key = "\n \"scans\": [";
+  const std::size_t split = text.find(key + "]") + key.size();
+  out_ << text.substr(0, split);
+  tail_ = text.substr(split);
+  Check();
+}
+
+void TruthWriter::Add(const TruthScan& scan) {
+  if (closed_) throw OutputError(path_ + ": written after Close()");
+  // The scan at depth 2 of the document: each of its lines indented by two more spaces.
+  const std::string text = ScanJson(scan).dump(1);
+  std::string indented = scans_++ == 0 ? "\n  " : ",\n  ";
+  indented.reserve(text.size() + text.size() / 4);
+  for (const char c : text) {
+    indented += c;
+    if (c == '\n') indented += "  ";
+  }
+  out_ << indented;
+  Check();
+}
+
+void TruthWriter::Close() {
+  if (closed_) return;
+  closed_ = true;
+  if (scans_ > 0) out_ << "\n ";
+  out_ << tail_ << "\n";
+  out_.close();
+  Check();
+}
+
+void TruthWriter::Check() {
+  if (out_.fail()) throw OutputError(path_ + ": write failed");
+}
+
+void WriteTruth(const std::string& path, const Truth& truth) {
+  TruthWriter writer(path, truth);
+  for (const TruthScan& s : truth.scans) writer.Add(s);
+  writer.Close();
 }
 
 Truth ReadTruth(const std::string& path) {

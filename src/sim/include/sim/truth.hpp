@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -37,7 +38,28 @@ struct Truth {
   std::vector<TruthScan> scans;
 };
 
-// Throws InputError when the file cannot be written or read, or is not a truth file.
+// Writes a truth file scan by scan, so that memory does not grow with the drive: the header
+// (everything but the scans) on construction, each scan on Add(), the end on Close(). The file
+// holds the same bytes as WriteTruth() of the whole drive. Throws OutputError when the file
+// cannot be created or a write fails.
+class TruthWriter {
+ public:
+  TruthWriter(const std::string& path, const Truth& header);  // header.scans is not written
+  void Add(const TruthScan& scan);
+  void Close();  // without it the file stays incomplete (not valid JSON)
+
+ private:
+  void Check();
+
+  std::string path_;
+  std::ofstream out_;
+  std::string tail_;  // the document after the scans
+  std::size_t scans_ = 0;
+  bool closed_ = false;
+};
+
+// WriteTruth throws OutputError when the file cannot be written; ReadTruth throws InputError
+// when it cannot be read or is not a truth file.
 void WriteTruth(const std::string& path, const Truth& truth);
 Truth ReadTruth(const std::string& path);
 
