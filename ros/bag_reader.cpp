@@ -60,6 +60,20 @@ std::string ChooseTopic(const std::map<std::string, std::string>& types,
                    option);
 }
 
+// The comma-separated topics of `text` (empty: none).
+std::vector<std::string> SplitTopics(const std::string& text) {
+  std::vector<std::string> topics;
+  std::size_t start = 0;
+  while (start <= text.size() && !text.empty()) {
+    const std::size_t comma = text.find(',', start);
+    const std::size_t end = comma == std::string::npos ? text.size() : comma;
+    if (end > start) topics.push_back(text.substr(start, end - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return topics;
+}
+
 class BagReader : public LogReader {
  public:
   BagReader(const std::string& path, const BagOptions& options)
@@ -76,9 +90,12 @@ class BagReader : public LogReader {
  private:
   void Load();
   void ReadPoses(const std::string& odom_topic);
+  void LoadRig(const std::vector<std::string>& topics,
+               const std::map<std::string, std::string>& types, const std::string& base);
   void TakeSensor(const rosbag::MessageInstance& first);
+  SensorConfig LaserSensor(const rosbag::MessageInstance& first) const;
   void TakeCloudSensor(const sensor_msgs::PointCloud2& first);
-  void TakeMount(const std::string& base_frame, const std::string& laser);
+  void TakeMount(const std::string& base_frame, const std::string& laser, SensorConfig* sensor);
   bool FillCloud(const sensor_msgs::PointCloud2& cloud, Scan* scan);
 
   // REP 117: +inf (or above range_max) is no echo; NaN, -inf and short ranges go on as they
@@ -106,6 +123,7 @@ class BagReader : public LogReader {
   bool by_ring_ = false;  // clouds cut by their ring field
   bool said_not_finite_ = false;
   std::unique_ptr<io::LayerCut> cut_;
+  std::vector<std::string> rig_topics_;  // a rig's scan topics, sensor k the k-th; else empty
   PoseTrack poses_;
   FrameTree statics_;
   std::size_t current_ = 0, total_ = 0;
@@ -136,6 +154,10 @@ bool BagReader::Next(Scan* scan) {
         continue;
       }
       scan->timestamp_s = stamp;
+      scan->sensor = 0;
+      for (std::size_t k = 0; k < rig_topics_.size(); ++k) {
+        if (rig_topics_[k] == m.getTopic()) scan->sensor = int(k);
+      }
       if (clouds_) {
         if (!FillCloud(*cloud, scan)) continue;
       } else {
@@ -190,8 +212,11 @@ void BagReader::Load() {
   for (const rosbag::ConnectionInfo* c : rosbag::View(bag_).getConnections()) {
     types[c->topic] = c->datatype;
   }
-  const std::string scan_topic =
-      ChooseTopic(types, {kLaserScan, kPointCloud2}, options_.scan_topic, "--scan-topic", path_);
+  const std::vector<std::string> topics = SplitTopics(options_.scan_topic);
+  const std::string scan_topic = topics.size() > 1
+                                     ? topics.front()
+                                     : ChooseTopic(types, {kLaserScan, kPointCloud2},
+                                                   options_.scan_topic, "--scan-topic", path_);
   if (scan_topic.empty()) {
     throw InputError(path_ + ": no " + std::string(kLaserScan) + " or " + kPointCloud2 + " topic");
   }
@@ -199,7 +224,8 @@ void BagReader::Load() {
   const std::string odom_topic =
       ChooseTopic(types, {kOdometry}, options_.odom_topic, "--odom-topic", path_);
   ReadPoses(odom_topic);
-  scans_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(scan_topic));
+  scans_ = std::make_unique<rosbag::View>(
+      bag_, rosbag::TopicQuery(topics.size() > 1 ? topics : std::vector<std::string>{scan_topic}));
   total_ = scans_->size();
   if (total_ == 0) throw InputError(path_ + ": topic " + scan_topic + " has no message");
   const rosbag::MessageInstance first = *scans_->begin();
@@ -212,10 +238,45 @@ void BagReader::Load() {
     base = options_.base_frame.empty() ? poses_.child_frame() : options_.base_frame;
   }
   poses_.Sort();
-  TakeSensor(first);
   it_ = scans_->begin();
-  TakeMount(base, clouds_ ? first.instantiate<sensor_msgs::PointCloud2>()->header.frame_id
-                          : first.instantiate<sensor_msgs::LaserScan>()->header.frame_id);
+  if (topics.size() > 1) {
+    LoadRig(topics, types, base);
+    return;
+  }
+  TakeSensor(first);
+  TakeMount(base,
+            clouds_ ? first.instantiate<sensor_msgs::PointCloud2>()->header.frame_id
+                    : first.instantiate<sensor_msgs::LaserScan>()->header.frame_id,
+            &sensor_);
+}
+
+// Several LaserScan topics: sensor k from the first message of topic k, mounted at its frame.
+void BagReader::LoadRig(const std::vector<std::string>& topics,
+                        const std::map<std::string, std::string>& types, const std::string& base) {
+  if (topics.size() > std::size_t(kMaxSensors)) {
+    throw InputError(path_ + ": --scan-topic lists " + std::to_string(topics.size()) +
+                     " topics; a rig has at most " + std::to_string(kMaxSensors));
+  }
+  for (const std::string& topic : topics) {
+    const auto it = types.find(topic);
+    if (it == types.end()) throw InputError(path_ + ": no topic " + topic);
+    if (it->second != kLaserScan) {
+      throw InputError(path_ + ": topic " + topic + " holds " + it->second + "; a rig of several " +
+                       "scan topics takes " + kLaserScan + " only");
+    }
+    if (std::count(topics.begin(), topics.end(), topic) > 1) {
+      throw InputError(path_ + ": topic " + topic + " is listed twice in --scan-topic");
+    }
+    rosbag::View view(bag_, rosbag::TopicQuery(topic));
+    if (view.size() == 0) throw InputError(path_ + ": topic " + topic + " has no message");
+    const rosbag::MessageInstance first = *view.begin();
+    SensorConfig sensor = LaserSensor(first);
+    sensor.name = topic;
+    TakeMount(base, first.instantiate<sensor_msgs::LaserScan>()->header.frame_id, &sensor);
+    rig_.push_back(sensor);
+  }
+  rig_topics_ = topics;
+  sensor_ = rig_.front();
 }
 
 void BagReader::ReadPoses(const std::string& odom_topic) {
@@ -252,20 +313,30 @@ void BagReader::TakeSensor(const rosbag::MessageInstance& first) {
     TakeCloudSensor(*cloud);
     return;
   }
+  sensor_ = LaserSensor(first);
+}
+
+// A LaserScan topic's sensor from its first message: one layer, its aperture, step and range
+// limits.
+SensorConfig BagReader::LaserSensor(const rosbag::MessageInstance& first) const {
   const sensor_msgs::LaserScan::ConstPtr scan = first.instantiate<sensor_msgs::LaserScan>();
-  if (!scan) throw InputError(path_ + ": the first scan cannot be read");
+  if (!scan)
+    throw InputError(path_ + ": the first scan of " + first.getTopic() + " cannot be read");
   const sensor_msgs::LaserScan& s = *scan;
   if (s.ranges.empty() || !(s.angle_increment > 0)) {
-    throw InputError(path_ + ": the first scan has no beams or angle_increment <= 0");
+    throw InputError(path_ + ": the first scan of " + first.getTopic() +
+                     " has no beams or angle_increment <= 0");
   }
   constexpr double kDeg = 180.0 / M_PI;
-  sensor_.layers = 1;
-  sensor_.min_angle_deg = double(s.angle_min) * kDeg;
-  sensor_.angular_resolution_deg = double(s.angle_increment) * kDeg;
-  sensor_.max_angle_deg =
+  SensorConfig sensor;
+  sensor.layers = 1;
+  sensor.min_angle_deg = double(s.angle_min) * kDeg;
+  sensor.angular_resolution_deg = double(s.angle_increment) * kDeg;
+  sensor.max_angle_deg =
       (double(s.angle_min) + double(s.ranges.size() - 1) * double(s.angle_increment)) * kDeg;
-  sensor_.min_range_m = std::max(0.0, double(s.range_min));
-  sensor_.max_range_m = double(s.range_max);
+  sensor.min_range_m = std::max(0.0, double(s.range_min));
+  sensor.max_range_m = double(s.range_max);
+  return sensor;
 }
 
 // A point cloud's scan: the ScaLa aperture and resolution; layers by the ring field (ring r is
@@ -303,12 +374,13 @@ void BagReader::TakeCloudSensor(const sensor_msgs::PointCloud2& first) {
 }
 
 // The mount: the static transform from the base frame to the scan's frame.
-void BagReader::TakeMount(const std::string& base_frame, const std::string& laser) {
+void BagReader::TakeMount(const std::string& base_frame, const std::string& laser,
+                          SensorConfig* sensor) {
   Rigid2 mount;
   if (laser == base_frame || statics_.Find(base_frame, laser, &mount)) {
-    sensor_.mount_x_m = mount.x;
-    sensor_.mount_y_m = mount.y;
-    sensor_.mount_yaw_deg = mount.yaw * 180.0 / M_PI;
+    sensor->mount_x_m = mount.x;
+    sensor->mount_y_m = mount.y;
+    sensor->mount_yaw_deg = mount.yaw * 180.0 / M_PI;
   } else {
     Report(0, "no /tf_static transform from " + base_frame + " to the scan frame " + laser +
                   ": the sensor mount is the config's (zero without a sensor section)");

@@ -198,6 +198,56 @@ TEST(RosBag, TopicsAreChosenOrAskedFor) {
   EXPECT_THROW(ros_bag::OpenRosBag(TempBag("not.bag")), InputError);
 }
 
+// Two LaserScan topics listed in --scan-topic are a rig: each topic a sensor mounted where
+// /tf_static puts its frame, each message a scan of its sensor, in the bag's order.
+TEST(RosBag, SeveralLaserScanTopicsAreARig) {
+  const std::string path = TempBag("rig.bag");
+  {
+    rosbag::Bag bag(path, rosbag::bagmode::Write);
+    tf2_msgs::TFMessage tf;
+    tf.transforms.push_back(MakeTransform(0.0, "base_link", "front_laser", 3.7, 0.0, 0.0));
+    tf.transforms.push_back(MakeTransform(0.0, "base_link", "rear_laser", -1.0, 0.0, M_PI));
+    bag.write("/tf_static", BagTime(0.001), tf);
+    for (int i = 0; i <= 10; ++i)
+      bag.write("/odom", BagTime(0.1 * i), MakeOdometry(0.1 * i, 0.2 * i, 0, 0));
+    for (int i = 0; i < 5; ++i) {
+      sensor_msgs::LaserScan front = MakeLaserScan(0.05 + 0.2 * i, std::vector<float>(181, 8.0f));
+      front.header.frame_id = "front_laser";
+      sensor_msgs::LaserScan rear = MakeLaserScan(0.06 + 0.2 * i, std::vector<float>(91, 6.0f));
+      rear.header.frame_id = "rear_laser";
+      bag.write("/front/scan", BagTime(0.05 + 0.2 * i), front);
+      bag.write("/rear/scan", BagTime(0.06 + 0.2 * i), rear);
+    }
+    bag.close();
+  }
+  ros_bag::BagOptions options;
+  options.scan_topic = "/front/scan,/rear/scan";
+  auto reader = ros_bag::OpenRosBag(path, options);
+  const std::vector<SensorConfig> sensors = reader->sensors();
+  ASSERT_EQ(sensors.size(), 2u);
+  EXPECT_EQ(sensors[1].name, "/rear/scan");
+  EXPECT_NEAR(sensors[0].mount_x_m, 3.7, 1e-9);
+  EXPECT_NEAR(sensors[1].mount_x_m, -1.0, 1e-9);
+  EXPECT_NEAR(std::abs(sensors[1].mount_yaw_deg), 180.0, 1e-6);
+  EXPECT_NEAR(sensors[1].max_angle_deg, 0.0, 1e-4);  // 91 beams from -90 deg
+  CycleReader cycles(*reader, 2);
+  std::vector<Scan> cycle;
+  int n = 0;
+  while (cycles.Next(&cycle)) {
+    ASSERT_EQ(cycle.size(), 2u);
+    EXPECT_EQ(cycle[0].sensor, 0);
+    EXPECT_EQ(cycle[1].sensor, 1);
+    EXPECT_EQ(cycle[1].points.size(), 91u);
+    EXPECT_NEAR(cycle[1].pose.x, 2.0 * cycle[1].timestamp_s, 1e-9);
+    ++n;
+  }
+  EXPECT_EQ(n, 5);
+  EXPECT_TRUE(reader->TakeIssues().empty());
+
+  options.scan_topic = "/front/scan,/odom";
+  EXPECT_THROW(ros_bag::OpenRosBag(path, options), InputError);
+}
+
 TEST(RosBag, ScansFarFromEveryPoseAreReportedAndSkipped) {
   const std::string path = TempBag("gap.bag");
   {

@@ -43,7 +43,7 @@ void CheckLayerCut(const BagCliOptions& o) {
 void AddBagOptions(CLI::App* command, BagCliOptions* o) {
   command->add_option("--scan-topic", o->scan_topic,
                       "ROS bag: the sensor_msgs/LaserScan or sensor_msgs/PointCloud2 topic (when\n"
-                      "the bag has several)");
+                      "the bag has several); several LaserScan topics with commas: a rig");
   command->add_option("--odom-topic", o->odom_topic,
                       "ROS bag: the nav_msgs/Odometry topic (when several; none: poses from /tf)");
   command->add_option("--base-frame", o->base_frame,

@@ -3,11 +3,14 @@
 // infinities and extreme values all occur) on a small map and the TBB backend. The contract
 // (include/freespace/estimator.hpp): Process() never throws; a scan it uses has a finite
 // origin, a vehicle inside the map and a polygon of finite vertices within polygon.max_vertices.
+// The same scans then go to a rig of two sensors (ProcessCycle), in cycles of two, the k-th
+// scan from sensor k % 2, under the same contract.
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <vector>
 
 #include "freespace/estimator.hpp"
 
@@ -49,6 +52,22 @@ freespace::Config SmallConfig() {
   return c;
 }
 
+// Two sensors, front and rear, with a footprint around the reference point.
+freespace::Config RigConfig() {
+  freespace::Config c = SmallConfig();
+  freespace::SensorConfig front = c.sensor, rear = c.sensor;
+  front.name = "front";
+  front.mount_x_m = 2.0;
+  rear.name = "rear";
+  rear.mount_x_m = -1.0;
+  rear.mount_yaw_deg = 180;
+  c.sensors = {front, rear};
+  c.rig.reference_x_m = 0.5;
+  c.rig.footprint_length_m = 3.0;
+  c.rig.footprint_width_m = 1.5;
+  return c;
+}
+
 void Check(bool ok) {
   if (!ok) std::abort();
 }
@@ -73,9 +92,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static const freespace::Config config = SmallConfig();
   static const std::unique_ptr<freespace::Estimator> estimator =
       std::make_unique<freespace::Estimator>(config);
+  static const freespace::Config rig_config = RigConfig();
+  static const std::unique_ptr<freespace::Estimator> rig =
+      std::make_unique<freespace::Estimator>(rig_config);
   estimator->Reset();
+  rig->Reset();
   Bytes in(data, size);
   freespace::Scan scan;
+  std::vector<freespace::Scan> cycle;
   for (int k = 0; k < 16 && !in.empty(); ++k) {
     scan.timestamp_s = in.Take<double>();
     scan.pose.x = in.Take<double>();
@@ -90,6 +114,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       p.echo = in.Take<std::uint8_t>() & 1;
     }
     CheckResult(estimator->Process(scan), config);
+    cycle.push_back(scan);
+    cycle.back().sensor = k % 2;
+    if (cycle.size() == 2) {
+      CheckResult(rig->ProcessCycle(cycle), rig_config);
+      cycle.clear();
+    }
   }
+  if (!cycle.empty()) CheckResult(rig->ProcessCycle(cycle), rig_config);
   return 0;
 }

@@ -18,7 +18,9 @@ namespace freespace::ros_bag {
 enum class CloudLayers { kAuto, kRing, kElevation };
 
 struct BagOptions {
-  // Empty: the one sensor_msgs/LaserScan or sensor_msgs/PointCloud2 topic of the bag.
+  // Empty: the one sensor_msgs/LaserScan or sensor_msgs/PointCloud2 topic of the bag. Several
+  // LaserScan topics separated by commas: a rig, sensor k the k-th topic (its name), each
+  // mounted where /tf_static puts its frame.
   std::string scan_topic;
   std::string odom_topic;  // empty: the one nav_msgs/Odometry topic, or /tf without one
   // The vehicle frame whose pose the scans need: empty takes Odometry's child_frame_id, or
