@@ -167,6 +167,19 @@ TEST(RigEstimator, BadCyclesAreRejectedAndChangeNothing) {
   const MapView m = rig.map();
   for (int i = 0; i < m.width * m.height; ++i) ASSERT_EQ(m.log_odds[i], 0);
 
+  // Scans of one cycle farther apart than the vehicle can travel between them (or than the map
+  // reaches): rejected, not placed far outside the map. The newest scan is the reference.
+  Scan away = Wall(0.04, {1e6, 0, 0}, 1, 12.0);
+  const Result& spread = rig.ProcessCycle(std::vector<Scan>{a, away});
+  EXPECT_EQ(spread.reject_reason, RejectReason::kPoseJump);
+  EXPECT_NE(spread.message.find("sensor 0 (a)"), std::string::npos) << spread.message;
+  away.pose.x = 20.0;  // 20 m in 0.04 s
+  EXPECT_EQ(rig.ProcessCycle(std::vector<Scan>{a, away}).reject_reason, RejectReason::kPoseJump);
+  const MapView after = rig.map();
+  for (int i = 0; i < after.width * after.height; ++i) ASSERT_EQ(after.log_odds[i], 0);
+  away.pose.x = 1.0;  // 25 m/s: plausible
+  EXPECT_EQ(rig.ProcessCycle(std::vector<Scan>{a, away}).status, ScanStatus::kOk);
+
   Estimator single(Config{});
   Scan b = a;
   b.sensor = 1;

@@ -107,7 +107,7 @@ struct Result {
   bool polygon_contains_vehicle = false;
 
   ScanStats stats;   // a rig's cycle: summed over its scans
-  StageTimes times;  // a rig's cycle: rasterize and fuse summed over its scans
+  StageTimes times;  // a rig's cycle: rasterize and fuse summed over its scans (wall clock)
   // A rig's cycle (Estimator::ProcessCycle): its scans' sensor indices and world sensor poses,
   // in the order fused (the rig's order). One entry for a single sensor.
   std::vector<int> cycle_sensors;

@@ -16,6 +16,7 @@
 #include "config_table.hpp"
 #include "core/config_fields.hpp"
 #include "freespace/errors.hpp"
+#include "io/text.hpp"
 
 namespace freespace {
 using namespace config_table;
@@ -269,7 +270,8 @@ void ValidateRig(const Config& c) {
   std::set<std::string> names;
   for (std::size_t i = 0; i < c.sensors.size(); ++i) {
     const SensorConfig& s = c.sensors[i];
-    const std::string label = "sensors[" + (s.name.empty() ? std::to_string(i) : s.name) + "]";
+    const std::string label =
+        "sensors[" + (s.name.empty() ? std::to_string(i) : io::Excerpt(s.name, 40)) + "]";
     if (s.name.empty()) throw ConfigError("config: " + label + ".name is empty: name each sensor");
     for (const char ch : s.name) {
       if (!std::isgraph(static_cast<unsigned char>(ch))) {

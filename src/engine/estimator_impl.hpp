@@ -63,6 +63,7 @@ class Estimator::Impl {
   };
   void MakeRig();
   bool CheckCycle(const Scan* scans, int count);
+  bool CheckCycleSpread(const Scan* scans, int newest);
   bool PreprocessCycle(const Scan* scans);
   void UpdateMapCycle(const Scan* scans);
   void FuseFootprint();

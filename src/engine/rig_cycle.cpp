@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "estimator_impl.hpp"
@@ -92,6 +93,36 @@ bool Estimator::Impl::CheckCycle(const Scan* scans, int count) {
   }
   std::sort(cycle_order_.begin(), cycle_order_.end(),
             [&](int a, int b) { return scans[a].sensor < scans[b].sensor; });
+  return true;
+}
+
+// Every scan's sensor within reach of the reference point: no farther from it than its mount
+// plus what the vehicle can travel between the two scans' times (alignment.max_speed_mps and
+// jump_slack_m), and inside the map's diagonal, so that each scan lands in the map.
+bool Estimator::Impl::CheckCycleSpread(const Scan* scans, int newest) {
+  const Result& r = result_;
+  const AlignmentConfig& a = config_.alignment;
+  const double diagonal =
+      std::hypot(config_.map.width_cells, config_.map.height_cells) * config_.map.resolution_m;
+  for (int index : cycle_order_) {
+    const Scan& scan = scans[index];
+    const SensorConfig& s = config_.sensors[scan.sensor];
+    const Pose2D sensor = SensorPose(scan.pose, s);
+    const double mount = std::hypot(s.mount_x_m - config_.rig.reference_x_m,
+                                    s.mount_y_m - config_.rig.reference_y_m);
+    const double dt = std::abs(scan.timestamp_s - scans[newest].timestamp_s);
+    const double limit = std::min(mount + a.max_speed_mps * dt + a.jump_slack_m, diagonal);
+    const double d = std::hypot(sensor.x - r.sensor_pose.x, sensor.y - r.sensor_pose.y);
+    if (!(d <= limit)) {
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    "the scan of sensor %d (%s) lies %.6g m from the cycle's reference point, "
+                    "more than %.6g m (its mount, the travel in %.3g s, the map)",
+                    scan.sensor, s.name.c_str(), d, limit, dt);
+      Reject(RejectReason::kPoseJump, text);
+      return false;
+    }
+  }
   return true;
 }
 
@@ -208,6 +239,7 @@ const Result& Estimator::Impl::ProcessCycle(const Scan* scans, int count) {
   reference.mount_x_m = config_.rig.reference_x_m;
   reference.mount_y_m = config_.rig.reference_y_m;
   r.sensor_pose = SensorPose(scans[newest].pose, reference);
+  if (!CheckCycleSpread(scans, newest)) return finish();
 
   const bool has_update = PreprocessCycle(scans);
   const Clock::time_point t_pre = Clock::now();

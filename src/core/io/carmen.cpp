@@ -188,11 +188,13 @@ class CarmenReader final : public LogReader {
     }
     if (!laser->found) {
       const bool poses = fields_.size() >= std::size_t(n) + 10 && ParseInt(fields_[9 + n], &m) &&
-                         m >= 0 && fields_.size() >= std::size_t(n + m) + 24;
-      const std::size_t base = std::size_t(n + m) + 10;
-      bool ok = poses;
-      for (int i = 0; ok && i < 6; ++i) ok = ParseDouble(fields_[base + i], &v[i]);
-      if (!ok) return;
+                         m >= 0 && std::size_t(m) <= fields_.size() &&
+                         fields_.size() >= std::size_t(n) + std::size_t(m) + 24;
+      if (!poses) return;
+      const std::size_t base = std::size_t(n) + std::size_t(m) + 10;
+      for (int i = 0; i < 6; ++i) {
+        if (!ParseDouble(fields_[base + i], &v[i])) return;
+      }
       laser->found = true;
       laser->sensor.min_angle_deg = start * kRadToDeg;
       laser->sensor.angular_resolution_deg = res * kRadToDeg;
