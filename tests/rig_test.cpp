@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 #include "core/simplifier.hpp"
@@ -411,6 +412,41 @@ TEST(RigLog, CarmenFrontLaserAloneIsOneSensor) {
   Scan scan;
   ASSERT_TRUE(reader->Next(&scan));
   EXPECT_NEAR(scan.pose.y, 2.5, 1e-9);  // the laser pose
+}
+
+}  // namespace
+}  // namespace freespace
+
+namespace freespace {
+namespace {
+
+// A surround drive written to files: the log holds the four sensors and the rig's vehicle, the
+// truth file names the rig, so `eval` from files scores it as the rig it is.
+TEST(RigSimulation, SurroundDriveFilesCarryTheRig) {
+  const std::string dir = ::testing::TempDir() + "/surround_drive";
+  std::filesystem::create_directories(dir);
+  sim::SimulationOptions options;
+  options.scenario = "parking";
+  options.duration_s = 0.2;
+  options.rig = "surround";
+  options.keep_truth_scans = false;
+  sim::Simulation simulation(options);
+  sim::SimulationWriter writer(dir, simulation.truth());
+  EXPECT_FALSE(writer.writes_carmen());
+  EXPECT_EQ(sim::WriteDrive(&simulation, &writer), 6u);
+  writer.Close();
+  const sim::Truth truth = sim::ReadTruth(writer.truth_path());
+  EXPECT_EQ(truth.rig.name, "surround");
+  EXPECT_EQ(truth.rig.scanners.size(), 4u);
+  EXPECT_EQ(truth.scans.size(), 6u);
+  auto reader = OpenLog(writer.log_path());
+  EXPECT_EQ(reader->sensors().size(), 4u);
+  EXPECT_DOUBLE_EQ(reader->rig().footprint_length_m, 4.7);
+  CycleReader cycles(*reader, 4);
+  std::vector<Scan> cycle;
+  int n = 0;
+  while (cycles.Next(&cycle)) n += cycle.size() == 4;
+  EXPECT_EQ(n, 6);
 }
 
 }  // namespace

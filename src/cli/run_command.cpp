@@ -152,7 +152,11 @@ class LogRun {
   }
 
   void PrintSetup() const {
-    const SensorConfig& s = config_.sensor;
+    const SensorConfig& s = config_.sensor_at(0);
+    if (config_.is_rig()) {
+      std::cerr << "freespace run: " << options_.log << ": a rig of " << config_.sensor_count()
+                << " sensors; the first, " << s.name << ":\n";
+    }
     std::cerr << "freespace run: " << options_.log << ": " << s.layers << " layer(s), "
               << s.min_angle_deg << " .. " << s.max_angle_deg << " deg at "
               << s.angular_resolution_deg << " deg, no echo at >= " << s.max_range_m

@@ -116,6 +116,7 @@ json HeaderJson(const Truth& truth) {
           {"description", truth.description},
           {"seed", truth.seed},
           {"scanner", ScannerJson(truth.scanner)},
+          {"rig", truth.rig.name},
           {"odometry_noise",
            {{"speed_scale_error", n.speed_scale_error},
             {"speed_sigma_mps", n.speed_sigma_mps},
