@@ -102,10 +102,7 @@ class DemoRun {
       simulation_ = std::make_unique<sim::Simulation>(MakeSimulationOptions(options_.sim));
       MakeDirectories(options_.out);
       writer_ = std::make_unique<sim::SimulationWriter>(options_.out, truth());
-      const Config rig = sim::WithRig(Config(), truth().rig);
-      LogSensors sensors;
-      sensors.sensors = rig.is_rig() ? rig.sensors : std::vector<SensorConfig>{rig.sensor};
-      sensors.rig = rig.rig;
+      const LogSensors sensors{sim::EngineSensors(truth().rig), truth().rig.vehicle};
       config_ = LoadEngineConfig(options_.engine, sensors, RoadConfig());
       if (config_.sensor_count() != int(truth().rig.scanners.size())) {
         throw ConfigError("config: the drive's rig '" + truth().rig.name + "' has " +

@@ -98,9 +98,10 @@ bool Estimator::Impl::CheckCycle(const Scan* scans, int count) {
 
 // Every scan's sensor within reach of the reference point: no farther from it than its mount
 // plus what the vehicle can travel between the two scans' times (alignment.max_speed_mps and
-// jump_slack_m), and inside the map's diagonal, so that each scan lands in the map.
+// jump_slack_m), and inside the map's diagonal, so that each scan lands in the map. Fills
+// Result::cycle_sensors and cycle_sensor_poses in the rig's order.
 bool Estimator::Impl::CheckCycleSpread(const Scan* scans, int newest) {
-  const Result& r = result_;
+  Result& r = result_;
   const AlignmentConfig& a = config_.alignment;
   const double diagonal =
       std::hypot(config_.map.width_cells, config_.map.height_cells) * config_.map.resolution_m;
@@ -113,7 +114,11 @@ bool Estimator::Impl::CheckCycleSpread(const Scan* scans, int newest) {
     const double dt = std::abs(scan.timestamp_s - scans[newest].timestamp_s);
     const double limit = std::min(mount + a.max_speed_mps * dt + a.jump_slack_m, diagonal);
     const double d = std::hypot(sensor.x - r.sensor_pose.x, sensor.y - r.sensor_pose.y);
+    r.cycle_sensors.push_back(scan.sensor);
+    r.cycle_sensor_poses.push_back(sensor);
     if (!(d <= limit)) {
+      r.cycle_sensors.clear();
+      r.cycle_sensor_poses.clear();
       char text[200];
       std::snprintf(text, sizeof text,
                     "the scan of sensor %d (%s) lies %.6g m from the cycle's reference point, "
@@ -156,12 +161,9 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   Result& r = result_;
   const double res = config_.map.resolution_m;
   cycle_echoes_.clear();
-  for (int index : cycle_order_) {
-    const Scan& scan = scans[index];
-    RigSensor& unit = rig_[scan.sensor];
-    const Pose2D sensor = SensorPose(scan.pose, unit.config.sensor);
-    r.cycle_sensors.push_back(scan.sensor);
-    r.cycle_sensor_poses.push_back(sensor);
+  for (std::size_t k = 0; k < cycle_order_.size(); ++k) {
+    RigSensor& unit = rig_[scans[cycle_order_[k]].sensor];
+    const Pose2D& sensor = r.cycle_sensor_poses[k];  // CheckCycleSpread's
     if (!unit.has_update) continue;
     double yaw = 0.0;
     const Vec2 cells = MapCells(sensor, r, res, &yaw);

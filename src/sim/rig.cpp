@@ -73,4 +73,9 @@ Config WithRig(Config config, const Rig& rig) {
   return config;
 }
 
+std::vector<SensorConfig> EngineSensors(const Rig& rig) {
+  const Config config = WithRig(Config(), rig);
+  return config.is_rig() ? config.sensors : std::vector<SensorConfig>{config.sensor};
+}
+
 }  // namespace freespace::sim

@@ -87,15 +87,6 @@ double Simulation::Step(Scan* scan, std::vector<EchoSource>* sources, const Pose
   return t;
 }
 
-namespace {
-
-std::vector<SensorConfig> EngineSensors(const Rig& rig) {
-  const Config config = WithRig(Config(), rig);
-  return config.is_rig() ? config.sensors : std::vector<SensorConfig>{config.sensor};
-}
-
-}  // namespace
-
 SimulationWriter::SimulationWriter(const std::string& dir, const Truth& header)
     : dir_(dir),
       native_(dir + "/sim.fslog", EngineSensors(header.rig), header.rig.vehicle),

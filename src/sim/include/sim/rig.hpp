@@ -32,4 +32,7 @@ Rig MakeRig(const std::string& name, const ScannerConfig& scanner);
 // sets `config.sensor` alone.
 Config WithRig(Config config, const Rig& rig);
 
+// The engine's view of the rig's scanners (WithRig's sensors, or its one sensor).
+std::vector<SensorConfig> EngineSensors(const Rig& rig);
+
 }  // namespace freespace::sim
