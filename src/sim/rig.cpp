@@ -26,6 +26,12 @@ constexpr Corner kSurround[] = {
 
 }  // namespace
 
+geometry::Polygon VehicleBody(double clearance_m) {
+  const double x0 = kRearX - clearance_m, x1 = kFrontX + clearance_m;
+  const double y = kHalfWidth + clearance_m;
+  return {Vec2(x0, -y), Vec2(x1, -y), Vec2(x1, y), Vec2(x0, y)};
+}
+
 const std::vector<std::string>& RigNames() {
   static const std::vector<std::string> names = {"front", "surround"};
   return names;

@@ -10,6 +10,7 @@
 
 #include "geometry/geometry.hpp"
 #include "sim/random.hpp"
+#include "sim/rig.hpp"
 
 namespace freespace::sim {
 namespace {
@@ -354,6 +355,30 @@ Scenario Urban(std::uint64_t seed) {
   return sc;
 }
 
+// Takes out of the world the static obstacles [first, end) that the car's body, grown by
+// `clearance_m`, would touch anywhere along the drive (sampled every 0.05 s): a long van parked
+// in a bay reaches into the aisle, and the car would drive through it.
+void KeepTheDriveClear(Scenario* sc, std::size_t first, std::size_t end, double clearance_m) {
+  const geometry::Polygon body = VehicleBody(clearance_m);
+  std::vector<geometry::Polygon> swept;
+  for (double t = 0.0; t <= sc->trajectory.duration(); t += 0.05) {
+    swept.push_back(Transform(sc->trajectory.At(t).pose, body));
+  }
+  std::vector<Obstacle>& obstacles = sc->world.obstacles;
+  const auto touches = [&](const Obstacle& o) {
+    for (const geometry::Polygon& at : swept) {
+      if (std::abs(geometry::SignedArea(geometry::ClipToConvex(o.shape, at))) > 0.0) return true;
+    }
+    return false;
+  };
+  std::size_t kept = first;
+  for (std::size_t i = first; i < end; ++i) {
+    if (!touches(obstacles[i])) obstacles[kept++] = obstacles[i];
+  }
+  obstacles.erase(obstacles.begin() + std::ptrdiff_t(kept),
+                  obstacles.begin() + std::ptrdiff_t(end));
+}
+
 // ---------------------------------------------------------------------------------------
 // Parking lot: 66 x 41 m between a hedge (south), a wall (west) and a store (north), open to
 // the east. Rows of 2.5 m x 5 m bays: A along the hedge, B and C back to back, D; aisles of
@@ -385,6 +410,7 @@ Scenario Parking(std::uint64_t seed) {
     int nose;
   };
   const Row rows[] = {{1.0, -1}, {13.0, 1}, {18.0, -1}, {30.0, 1}};
+  const std::size_t parked_begin = w.obstacles.size();
   const int island = 12;  // rows B and C keep bay 12 for a lamp post island
   for (int r = 0; r < 4; ++r) {
     for (int b = 0; b < bays; ++b) {
@@ -402,6 +428,7 @@ Scenario Parking(std::uint64_t seed) {
       AddVehicle(&w, v, {x, y, nose * 0.5 * M_PI + rng.Uniform(-3.0, 3.0) * kDeg});
     }
   }
+  const std::size_t parked_end = w.obstacles.size();
   for (const double x : {2.0, x_first + bay_w * (island + 0.5), 65.5}) AddPole(&w, {x, 18.0}, 0.3);
   for (int i = 0; i < 5; ++i) {
     AddPedestrian(&w, &rng, {rng.Uniform(3.0, 63.0), rng.Uniform(36.5, 40.0)});
@@ -443,6 +470,7 @@ Scenario Parking(std::uint64_t seed) {
                        {back + arc + RampLength(2.0, v_in, 1.2), v_in},
                        {back + arc + out, v_in}});
   sc.duration_s = sc.trajectory.duration();
+  KeepTheDriveClear(&sc, parked_begin, parked_end, 0.3);
   return sc;
 }
 

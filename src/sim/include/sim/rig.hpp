@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "freespace/config.hpp"
+#include "geometry/geometry.hpp"
 #include "sim/scanner.hpp"
 
 namespace freespace::sim {
@@ -20,6 +21,11 @@ struct Rig {
 
   bool several() const { return scanners.size() > 1; }
 };
+
+// The simulated car's body in its own frame (rear axle centre, x forward): the front bumper
+// 3.7 m ahead, the rear one 1.0 m behind, 1.8 m wide; grown by `clearance_m` on every side.
+// Counter-clockwise.
+geometry::Polygon VehicleBody(double clearance_m = 0.0);
 
 // The rig names MakeRig() knows.
 const std::vector<std::string>& RigNames();
