@@ -4,10 +4,10 @@
 // The free mask, plus the cells around the sensor the opening took but the scans saw free more
 // often than occupied, less the safety margin: a cell with an unconfirmed neighbour (the map's
 // log-odds >= 0: occupied, or never seen free; or an echo of this scan) within margin_cells,
-// where the line of sight from the sensor through the cell runs on toward that neighbour
-// (InMarginCone). The echoes of this scan count, so that a vehicle now in a place the map still
-// holds free keeps its margin too. A row at a time, as bitsets; only the cells next to an
-// unconfirmed one are tested for the cone.
+// where the line of sight from one of the scanners through the cell runs on toward that
+// neighbour (InMarginConeOfAny). The echoes of this scan count, so that a vehicle now in a
+// place the map still holds free keeps its margin too. A row at a time, as bitsets; only the cells
+// next to an unconfirmed one are tested for the cone.
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -26,7 +26,7 @@ std::uint64_t Bits64(const std::uint64_t* row, int words, int start) {
 
 }  // namespace
 
-void HostBackend::Mask(const SensorCell& sensor) {
+void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
   const int width = params_.width, height = params_.height, nw = words();
   const int h = params_.opening_radius, k = params_.margin_cells;
   const RowSpan stand{std::max(0, sensor.cell.row - h), std::min(height, sensor.cell.row + h + 1)};
@@ -83,7 +83,7 @@ void HostBackend::Mask(const SensorCell& sensor) {
             while (candidates != 0) {
               const int bit = __builtin_ctzll(candidates);
               candidates &= candidates - 1;
-              if (InMarginCone(params_, sensor.x, sensor.y, w * 64 + bit, r, dx, dy)) {
+              if (InMarginConeOfAny(params_, views, w * 64 + bit, r, dx, dy)) {
                 kill[w] |= std::uint64_t{1} << bit;
               }
             }

@@ -8,8 +8,8 @@
 // log-odds >= 0 (occupied, or never seen free more often than occupied).
 // mask_rows: one work-item per row of the polygon mask: the free mask, plus the cells within
 // OPENING_RADIUS of the sensor's cell with log-odds below 0 and no echo, less every cell with a
-// source (unconfirmed, or an echo) within MARGIN_CELLS in the margin's cone, plus the sensor's
-// own cell. Bitsets of BIT_WORDS ulong words a row (common.cl).
+// source (unconfirmed, or an echo) within MARGIN_CELLS in the margin's cone of one of the views
+// (the scanners, fixed point, at most 16), plus the sensor's own cell. Bitsets of BIT_WORDS ulong words a row (common.cl).
 //
 // Build options: those of common.cl, OPENING_RADIUS, MARGIN_CELLS, CONE_COS, CONE_SIN (the
 // cone's half-angle times 2^20) and MARGIN_ALL (1: the margin all around).
@@ -60,10 +60,24 @@ bool MaskInCone(int sensor_x, int sensor_y, int col, int row, int dx, int dy) {
 #endif
 }
 
+// MaskInCone() from any of the margin's views (InMarginConeOfAny() of
+// src/core/include/core/backend.hpp).
+bool MaskInConeOfAny(const int* view_x, const int* view_y, int view_count, int col, int row,
+                     int dx, int dy) {
+#if MARGIN_ALL
+  return true;
+#endif
+  for (int i = 0; i < view_count; ++i) {
+    if (MaskInCone(view_x[i], view_y[i], col, row, dx, dy)) return true;
+  }
+  return false;
+}
+
 // The margin's cells among the candidates `out` of row r: those with a source (unconfirmed or
-// echo) within MARGIN_CELLS in the cone, into kill.
-void MaskMargin(__global const ulong* unconfirmed, __global const ulong* echo, int r, int sensor_x,
-                int sensor_y, const ulong* out, ulong* kill) {
+// echo) within MARGIN_CELLS in the cone of one of the views, into kill.
+void MaskMargin(__global const ulong* unconfirmed, __global const ulong* echo, int r,
+                const int* view_x, const int* view_y, int view_count, const ulong* out,
+                ulong* kill) {
   for (int dy = -MARGIN_CELLS; dy <= MARGIN_CELLS; ++dy) {
     const int rr = r + dy;
     if (rr < 0 || rr >= HEIGHT) continue;
@@ -77,7 +91,9 @@ void MaskMargin(__global const ulong* unconfirmed, __global const ulong* echo, i
         while (candidates != 0) {
           const int bit = 63 - (int)clz(candidates & (~candidates + 1UL));
           candidates &= candidates - 1;
-          if (MaskInCone(sensor_x, sensor_y, w * 64 + bit, r, dx, dy)) kill[w] |= 1UL << bit;
+          if (MaskInConeOfAny(view_x, view_y, view_count, w * 64 + bit, r, dx, dy)) {
+            kill[w] |= 1UL << bit;
+          }
         }
       }
     }
@@ -87,8 +103,8 @@ void MaskMargin(__global const ulong* unconfirmed, __global const ulong* echo, i
 __kernel void mask_rows(__global const ulong* free, __global const ulong* echo,
                         __global const ulong* unconfirmed, __global const short* map,
                         __global ulong* mask, int first_row, int end_row, int span_begin,
-                        int span_end, int sensor_x, int sensor_y, int sensor_col,
-                        int sensor_row) {
+                        int span_end, int sensor_col, int sensor_row, int16 view_x16,
+                        int16 view_y16, int view_count) {
   const int r = first_row + (int)get_global_id(0);
   if (r >= end_row) return;
   __global ulong* row = mask + r * BIT_WORDS;
@@ -108,7 +124,10 @@ __kernel void mask_rows(__global const ulong* free, __global const ulong* echo,
 #if MARGIN_CELLS > 0
   ulong kill[BIT_WORDS];
   for (int w = 0; w < BIT_WORDS; ++w) kill[w] = 0;
-  MaskMargin(unconfirmed, echo, r, sensor_x, sensor_y, out, kill);
+  int view_x[16], view_y[16];
+  vstore16(view_x16, 0, view_x);
+  vstore16(view_y16, 0, view_y);
+  MaskMargin(unconfirmed, echo, r, view_x, view_y, view_count, out, kill);
   for (int w = 0; w < BIT_WORDS; ++w) out[w] &= ~kill[w];
 #endif
   if (r == sensor_row) out[sensor_col >> 6] |= 1UL << (sensor_col & 63);

@@ -181,7 +181,6 @@ TEST(RaySteps, ClosedFormIsExactUpTo46340Steps) {
   }
 }
 
-
 // The exact rays of the conservative polygon. TraceExactRayRows (the backends' way) gives the
 // stops of TraceExactRay (a cell at a time) on random masks, sensors on cell corners and edges
 // included, and every stop is where the straight ray first meets a blocked cell: the points
@@ -255,7 +254,9 @@ TEST_P(InSightTest, ExactRaysMatchTheCellWalk) {
     const SensorCell s = MakeSensorCell(
         Vec2((rng() % (width * 4)) / 4.0, (rng() % (height * 4)) / 4.0), width, height);
     free[std::size_t(s.cell.row) * width + s.cell.col] = 1;
-    backend->Mask(s);
+    MarginViews views;
+    views.Add(s);
+    backend->Mask(s, views);
     std::vector<RayStop> stops;
     std::vector<CellIndex> edges;
     edges.reserve(BorderLabelCount(height, width));
@@ -269,7 +270,8 @@ TEST_P(InSightTest, ExactRaysMatchTheCellWalk) {
       ASSERT_EQ(stops[l].cell, want.cell) << "trial " << trial << " label " << l;
       ASSERT_EQ(stops[l].kind, want.kind) << "trial " << trial << " label " << l;
       ASSERT_EQ(stops[l].line, want.line) << "trial " << trial << " label " << l;
-      if (std::find(cells.begin(), cells.end(), want.cell) == cells.end()) cells.push_back(want.cell);
+      if (std::find(cells.begin(), cells.end(), want.cell) == cells.end())
+        cells.push_back(want.cell);
     }
     ASSERT_EQ(edges.size(), cells.size());  // C_Edge: each stop cell once, by smallest label
     for (std::size_t i = 0; i < cells.size(); ++i) {

@@ -16,14 +16,22 @@ struct Scene {
   std::vector<std::uint8_t> free;  // the free mask stage 3 would have made
   std::vector<std::int32_t> echoes;
   Vec2 sensor;
+  std::vector<Vec2> scanners;  // the margin's lines of sight (none: from the sensor)
 };
+
+MarginViews ViewsOf(const Scene& s) {
+  MarginViews views;
+  if (s.scanners.empty()) views.Add(MakeSensorCell(s.sensor, s.width, s.height));
+  for (const Vec2& v : s.scanners) views.Add(MakeSensorCell(v, s.width, s.height));
+  return views;
+}
 
 // The polygon mask of `scene` as a backend makes it, one byte a cell.
 std::vector<std::uint8_t> MaskOf(Backend& backend, const Scene& s) {
   backend.WriteLogOdds(s.map.data());
   backend.WriteFree(s.free.data());
   backend.SetEchoes(s.echoes.data(), int(s.echoes.size()));
-  backend.Mask(MakeSensorCell(s.sensor, s.width, s.height));
+  backend.Mask(MakeSensorCell(s.sensor, s.width, s.height), ViewsOf(s));
   const int words = (s.width + 63) / 64;
   std::vector<std::uint64_t> bits(std::size_t(words) * s.height, 0);
   backend.ReadMaskBits(0, s.height, bits.data());
@@ -39,6 +47,7 @@ std::vector<std::uint8_t> MaskOf(Backend& backend, const Scene& s) {
 // The rule of Backend::Mask, cell by cell.
 std::vector<std::uint8_t> Expected(const Scene& s, const KernelParams& p) {
   const SensorCell sensor = MakeSensorCell(s.sensor, s.width, s.height);
+  const MarginViews views = ViewsOf(s);
   std::vector<std::uint8_t> echo(s.free.size(), 0), mask(s.free.size(), 0);
   for (const std::int32_t c : s.echoes) echo[std::size_t(c)] = 1;
   const auto at = [&](int r, int c) { return std::size_t(r) * s.width + c; };
@@ -53,7 +62,9 @@ std::vector<std::uint8_t> Expected(const Scene& s, const KernelParams& p) {
           const int rr = r + dy, cc = c + dx;
           if ((dx == 0 && dy == 0) || rr < 0 || cc < 0 || rr >= s.height || cc >= s.width) continue;
           const bool source = s.map[at(rr, cc)] >= 0 || echo[at(rr, cc)];
-          if (source && InMarginCone(p, sensor.x, sensor.y, c, r, dx, dy)) in = false;
+          for (int v = 0; v < views.count; ++v) {
+            if (source && InMarginCone(p, views.x[v], views.y[v], c, r, dx, dy)) in = false;
+          }
         }
       }
       mask[at(r, c)] = in || (r == sensor.cell.row && c == sensor.cell.col);
@@ -117,6 +128,27 @@ TEST_P(MaskTest, MarginKeepsOutTheCellsInFrontOfAWallAsTheSensorSeesIt) {
   }
 }
 
+TEST_P(MaskTest, MarginFollowsTheLineOfSightOfEveryScannerOfARig) {
+  // The rig's reference point 'o' south of a wall, its two scanners far to the west and east:
+  // the cells in front of the wall as the reference sees it stay; those in front of its ends as
+  // each scanner sees them (west of the wall's west end, east of its east end) go.
+  std::vector<std::uint8_t> expected;
+  Scene s = FromText(
+      {"...........", "...........", "...x###x...", "...........", "...........", ".....o....."},
+      &expected);
+  s.scanners = {Vec2(-40.0, 3.5), Vec2(51.0, 3.5)};
+  const KernelParams p = MarginParams(s.width, s.height, 1, 30);
+  FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), p);
+  EXPECT_EQ(MaskOf(*backend, s), expected);
+  EXPECT_EQ(Expected(s, p), expected);
+  // With the reference point as the only line of sight, the row in front of the wall goes
+  // instead.
+  s.scanners.clear();
+  const std::vector<std::uint8_t> alone = MaskOf(*backend, s);
+  EXPECT_FALSE(alone[std::size_t(2) * s.width + 5]);
+  EXPECT_TRUE(alone[std::size_t(3) * s.width + 3]);
+}
+
 TEST_P(MaskTest, TheSensorsOwnCellStays) {
   std::vector<std::uint8_t> expected;
   Scene s =
@@ -147,6 +179,9 @@ TEST_P(MaskTest, MatchesTheRuleOnRandomMaps) {
     std::uniform_real_distribution<double> x(0.0, s.width), y(0.0, s.height);
     s.sensor = Vec2(x(rng), y(rng));
     if (trial % 5 == 0) s.sensor = Vec2(std::floor(s.sensor.x()) + 0.5, std::floor(s.sensor.y()));
+    for (int v = trial % 3 == 1 ? 1 + int(rng() % 4) : 0; v > 0; --v) {
+      s.scanners.push_back(Vec2(x(rng), y(rng)));  // a rig's scanners
+    }
     Config config = test::SmallConfig(s.width, s.height);
     config.polygon.shape = PolygonShape::kInside;
     config.polygon.margin_cells = trial % 4;

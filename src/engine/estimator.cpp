@@ -77,6 +77,7 @@ void Estimator::Impl::Begin(const Scan& scan) {
   r.pose = scan.pose;
   r.times = StageTimes{};
   r.stats = ScanStats{};
+  cycle_scanners_.clear();
   r.polygon.clear();
   r.polygon_cells.clear();
   r.edge_cells.clear();
@@ -215,7 +216,7 @@ void Estimator::Impl::ClassifyAndScan() {
   const Clock::time_point start = Clock::now();
   backend_->Classify();
   result_.times.classify_us = Micros(start, Clock::now());
-  polygon_->CastRays(result_.vehicle_cells, result_.vehicle_cell, backend_.get(),
+  polygon_->CastRays(result_.vehicle_cells, result_.vehicle_cell, cycle_scanners_, backend_.get(),
                      &result_.edge_cells, &result_.times);
 }
 

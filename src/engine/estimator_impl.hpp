@@ -82,6 +82,7 @@ class Estimator::Impl {
   std::vector<RigSensor> rig_;              // a rig's sensors (empty for a single sensor)
   std::vector<int> cycle_order_;            // the cycle's scans by sensor index
   std::vector<std::int32_t> cycle_echoes_;  // echo cells of every scan of the cycle
+  std::vector<Vec2> cycle_scanners_;        // map cells of the cycle's scanners with an update
   std::int32_t footprint_[8] = {};          // the footprint's corners, fixed point
   mutable std::vector<LogOdds> map_mirror_;
   mutable std::vector<std::uint8_t> free_mirror_;

@@ -29,16 +29,16 @@ class PaperPolygon final : public PolygonExtractor {
     kept_.reserve(std::size_t(labels));
   }
 
-  void CastRays(const Vec2& /*sensor*/, CellIndex vehicle, Backend* backend,
-                std::vector<CellIndex>* edges, StageTimes* times) override {
+  void CastRays(const Vec2& /*sensor*/, CellIndex vehicle, const std::vector<Vec2>& /*scanners*/,
+                Backend* backend, std::vector<CellIndex>* edges, StageTimes* times) override {
     const Clock::time_point start = Clock::now();
     backend->InSight(vehicle, edges);
     vehicle_ = vehicle;
     times->insight_us = Micros(start, Clock::now());
   }
 
-  bool Extract(const std::vector<CellIndex>& edges, const Vec2& sensor,
-               std::vector<Vec2>* polygon, double* error) override {
+  bool Extract(const std::vector<CellIndex>& edges, const Vec2& sensor, std::vector<Vec2>* polygon,
+               double* error) override {
     *error = 0.0;
     // Nothing free around the sensor: every ray stopped at its first step.
     const bool beyond = std::any_of(edges.begin(), edges.end(), [&](const CellIndex& c) {
@@ -71,11 +71,14 @@ class ConservativePolygon final : public PolygonExtractor {
     if (backend.HostMaskBits() == nullptr) mask_copy_.resize(std::size_t(words_) * height_);
   }
 
-  void CastRays(const Vec2& sensor, CellIndex /*vehicle*/, Backend* backend,
-                std::vector<CellIndex>* edges, StageTimes* times) override {
+  void CastRays(const Vec2& sensor, CellIndex /*vehicle*/, const std::vector<Vec2>& scanners,
+                Backend* backend, std::vector<CellIndex>* edges, StageTimes* times) override {
     const Clock::time_point start = Clock::now();
     sensor_ = MakeSensorCell(sensor, width_, height_);
-    backend->Mask(sensor_);
+    MarginViews views;
+    if (scanners.empty()) views.Add(sensor_);
+    for (const Vec2& s : scanners) views.Add(MakeSensorCell(s, width_, height_));
+    backend->Mask(sensor_, views);
     const Clock::time_point masked = Clock::now();
     backend->InSightExact(sensor_, &stops_, edges);
     mask_.bits = backend->HostMaskBits();

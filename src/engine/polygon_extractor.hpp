@@ -19,9 +19,10 @@ class PolygonExtractor {
 
   // The border rays from the sensor at `sensor` (map cells; its cell `vehicle`) on the
   // classified map of `backend`: kernel stage 4 (for the conservative polygon stage 3b, the
-  // polygon mask, first). Writes C_Edge into `edges`; adds the stages' times to `times`.
-  virtual void CastRays(const Vec2& sensor, CellIndex vehicle, Backend* backend,
-                        std::vector<CellIndex>* edges, StageTimes* times) = 0;
+  // polygon mask, first, its margin along the lines of sight from `scanners`, map cells; none:
+  // from the sensor). Writes C_Edge into `edges`; adds the stages' times to `times`.
+  virtual void CastRays(const Vec2& sensor, CellIndex vehicle, const std::vector<Vec2>& scanners,
+                        Backend* backend, std::vector<CellIndex>* edges, StageTimes* times) = 0;
 
   // Builds the polygon (counter-clockwise, map cells, at most polygon.max_vertices distinct
   // vertices) from the rays of the last CastRays(). Returns false, with `polygon` empty, when

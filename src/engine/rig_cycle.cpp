@@ -156,17 +156,20 @@ bool Estimator::Impl::PreprocessCycle(const Scan* scans) {
 }
 
 // Each scan's update (sensor model and fusion) from its own sensor's pose in the aligned map,
-// in the rig's order; then the footprint; the veto layer holds every scan's echoes.
+// in the rig's order; then the footprint; the veto layer holds every scan's echoes, and the
+// polygon mask's margin follows the lines of sight of the scanners that updated the map.
 void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   Result& r = result_;
   const double res = config_.map.resolution_m;
   cycle_echoes_.clear();
+  cycle_scanners_.clear();
   for (std::size_t k = 0; k < cycle_order_.size(); ++k) {
     RigSensor& unit = rig_[scans[cycle_order_[k]].sensor];
     const Pose2D& sensor = r.cycle_sensor_poses[k];  // CheckCycleSpread's
     if (!unit.has_update) continue;
     double yaw = 0.0;
     const Vec2 cells = MapCells(sensor, r, res, &yaw);
+    cycle_scanners_.push_back(cells);
     StageTimes times;
     sensor_model_->Update(unit.preprocess.get(), cells, yaw, backend_.get(), &times);
     r.times.rasterize_us += times.rasterize_us;

@@ -10,6 +10,8 @@
 namespace freespace {
 namespace {
 
+static_assert(kMaxSensors == 16, "mask_rows takes the margin's views as two int16");
+
 using opencl::Check;
 using opencl::RoundUp;
 using opencl::SetArg;
@@ -39,10 +41,11 @@ constexpr cl_uint kFirstRow = 5;
 constexpr cl_uint kEndRow = 6;
 constexpr cl_uint kSpanBegin = 7;
 constexpr cl_uint kSpanEnd = 8;
-constexpr cl_uint kSensorX = 9;
-constexpr cl_uint kSensorY = 10;
-constexpr cl_uint kSensorCol = 11;
-constexpr cl_uint kSensorRow = 12;
+constexpr cl_uint kSensorCol = 9;
+constexpr cl_uint kSensorRow = 10;
+constexpr cl_uint kViewX = 11;
+constexpr cl_uint kViewY = 12;
+constexpr cl_uint kViewCount = 13;
 }  // namespace mask_rows_arg
 
 namespace insight_exact_arg {
@@ -138,7 +141,7 @@ void OpenClBackend::VetoEchoes(RowSpan rows, opencl::Event* end) {
   Launch(mask_veto_.get(), 1, &global, &row_local_, end->out());
 }
 
-void OpenClBackend::Mask(const SensorCell& sensor) {
+void OpenClBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
   Flush();
   const int height = params_.height, h = params_.opening_radius, k = params_.margin_cells;
   const RowSpan stand{std::max(0, sensor.cell.row - h), std::min(height, sensor.cell.row + h + 1)};
@@ -159,10 +162,16 @@ void OpenClBackend::Mask(const SensorCell& sensor) {
   SetArg(rows, mask_rows_arg::kEndRow, cl_int(write.end));
   SetArg(rows, mask_rows_arg::kSpanBegin, cl_int(span.begin));
   SetArg(rows, mask_rows_arg::kSpanEnd, cl_int(span.end));
-  SetArg(rows, mask_rows_arg::kSensorX, cl_int(sensor.x));
-  SetArg(rows, mask_rows_arg::kSensorY, cl_int(sensor.y));
   SetArg(rows, mask_rows_arg::kSensorCol, cl_int(sensor.cell.col));
   SetArg(rows, mask_rows_arg::kSensorRow, cl_int(sensor.cell.row));
+  cl_int16 view_x{}, view_y{};  // kMaxSensors == 16 lanes
+  for (int i = 0; i < views.count; ++i) {
+    view_x.s[i] = views.x[i];
+    view_y.s[i] = views.y[i];
+  }
+  SetArg(rows, mask_rows_arg::kViewX, view_x);
+  SetArg(rows, mask_rows_arg::kViewY, view_y);
+  SetArg(rows, mask_rows_arg::kViewCount, cl_int(views.count));
   global = RoundUp(std::size_t(write.end - write.begin), row_local_);
   Launch(rows, 1, &global, &row_local_, end.out());
   SetStage(kMaskStage, std::move(begin), std::move(end));

@@ -33,7 +33,7 @@ class HostBackend final : public Backend {
   void FuseRays(int row_begin, int row_end) override;                       // host/rays.cpp
   void Classify() override;                                                 // host/classify.cpp
   void SetEchoes(const std::int32_t* cells, int count) override;            // host/classify.cpp
-  void Mask(const SensorCell& sensor) override;                             // host/mask.cpp
+  void Mask(const SensorCell& sensor, const MarginViews& views) override;   // host/mask.cpp
   void InSight(CellIndex vehicle, std::vector<CellIndex>* edges) override;  // host/insight.cpp
   void InSightExact(const SensorCell& sensor, std::vector<RayStop>* stops,  // host/insight.cpp
                     std::vector<CellIndex>* edges) override;

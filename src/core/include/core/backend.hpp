@@ -79,6 +79,33 @@ inline bool InMarginCone(const KernelParams& p, std::int32_t sensor_x, std::int3
   return p.cone_cos >= 0 ? (after_e2 && before_e1) : (after_e2 || before_e1);
 }
 
+// The points whose lines of sight the margin's cone follows (Backend::Mask): the scanners whose
+// scans this map update fused, in fixed-point map cells (SensorCell::x, y). One scanner: the
+// sensor itself; a rig: each scanner of the cycle, wherever the polygon's reference point is.
+struct MarginViews {
+  std::int32_t x[kMaxSensors] = {};
+  std::int32_t y[kMaxSensors] = {};
+  int count = 0;
+
+  // Adds `s` when there is room (kMaxSensors, the most a rig has).
+  void Add(const SensorCell& s) {
+    if (count >= kMaxSensors) return;
+    x[count] = s.x;
+    y[count] = s.y;
+    ++count;
+  }
+};
+
+// InMarginCone() from any of `views`: a margin cell for one scanner's line of sight is one.
+inline bool InMarginConeOfAny(const KernelParams& p, const MarginViews& views, int col, int row,
+                              int dx, int dy) {
+  if (p.margin_all) return true;
+  for (int i = 0; i < views.count; ++i) {
+    if (InMarginCone(p, views.x[i], views.y[i], col, row, dx, dy)) return true;
+  }
+  return false;
+}
+
 // Input of kernel stage 1 for one scan.
 struct RasterJob {
   // Closed ring of the full-scan polygon: x0, y0, x1, y1, ... fixed point (kFixedBits).
@@ -217,9 +244,9 @@ class Backend {
   // when it is free in the free mask, or lies within opening_radius (Chebyshev) of the sensor's
   // cell with log-odds below 0 and no echo of this scan; and no margin source (a cell with
   // log-odds >= 0: occupied, or never seen free more often than occupied; or an echo of this
-  // scan) lies within margin_cells of it (Chebyshev) in the margin's cone (InMarginCone). The
-  // sensor's own cell always is.
-  virtual void Mask(const SensorCell& sensor) = 0;
+  // scan) lies within margin_cells of it (Chebyshev) in the margin's cone of one of `views`
+  // (InMarginConeOfAny). The sensor's own cell always is.
+  virtual void Mask(const SensorCell& sensor, const MarginViews& views) = 0;
 
   // Kernel stage 4 of the conservative polygon, after Mask(): an exact ray (TraceExactRay) from
   // the sensor to the centre of every border cell, in label order, on the polygon mask. Writes

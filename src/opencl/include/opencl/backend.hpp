@@ -50,7 +50,7 @@ class OpenClBackend final : public Backend {
   void FuseRays(int row_begin, int row_end) override;                       // rays.cl
   void Classify() override;                                                 // classify.cl
   void SetEchoes(const std::int32_t* cells, int count) override;            // mask.cl
-  void Mask(const SensorCell& sensor) override;                             // mask.cl
+  void Mask(const SensorCell& sensor, const MarginViews& views) override;   // mask.cl
   void InSightExact(const SensorCell& sensor, std::vector<RayStop>* stops,  // insight.cl
                     std::vector<CellIndex>* edges) override;
   void ReadMaskBits(int row_begin, int row_end, std::uint64_t* dst) override;
