@@ -26,6 +26,7 @@ from ._freespace import (
     TruthScorer,
     evaluate_drive,
     open_log,
+    opencl_compiled_in,
     read_truth,
     scenario_names,
     seed_summary,
@@ -42,5 +43,5 @@ __all__ = [
     "BackendError", "Config", "ConfigError", "DriveEvaluation", "Estimator", "InputError",
     "LogReader", "Map", "MetricsSeries", "POINT_DTYPE", "Result", "Scan", "ScanMetrics",
     "Simulation", "StageSeries", "Truth", "TruthScorer", "evaluate_drive", "open_log",
-    "read_truth", "scenario_names", "seed_summary",
+    "opencl_compiled_in", "read_truth", "scenario_names", "seed_summary",
 ]

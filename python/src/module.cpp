@@ -3,6 +3,7 @@
 #include <pybind11/pybind11.h>
 
 #include "bindings.hpp"
+#include "engine/backend_factory.hpp"
 #include "freespace/errors.hpp"
 
 namespace py = pybind11;
@@ -15,6 +16,8 @@ PYBIND11_MODULE(_freespace, m) {
   py::register_exception<freespace::ConfigError>(m, "ConfigError", PyExc_ValueError);
   py::register_exception<freespace::InputError>(m, "InputError", PyExc_OSError);
   py::register_exception<freespace::BackendError>(m, "BackendError", PyExc_RuntimeError);
+  // Whether `backend.kind: opencl` can work at all in this build (a device is still needed).
+  m.attr("opencl_compiled_in") = freespace::OpenClCompiledIn();
   freespace::python::BindConfig(m);
   freespace::python::BindEstimator(m);
   freespace::python::BindIo(m);
