@@ -259,6 +259,29 @@ TEST(OpenClRuntime, BrokenKernelThrowsWithTheCompilersLog) {
                                        OpenClBackend::BuildOptions(params, 1, 1, true)));
 }
 
+// A kernel the compiler warns about, built with the backend's options, prints nothing: PoCL puts
+// its compiler's warnings on stderr (the ABI warnings on int16 arguments of CPUs without AVX-512
+// came on a cold kernel cache), and the library never prints.
+TEST(OpenClRuntime, CompilerWarningsAreNotPrinted) {
+  FREESPACE_DEVICE_OR_SKIP(found);
+  const auto context = opencl::DeviceContext::Get(found);
+  // A text of its own each run, so that no kernel cache holds it.
+  const std::string text =
+      "__kernel void warned(__global short16* x, __global const int16* y) {\n"
+      "  x[0] = convert_short16(y[0] + (int16)(" +
+      std::to_string(std::chrono::steady_clock::now().time_since_epoch().count() & 0xffffff) +
+      "));\n  x[1] = 1 << 40;\n}\n";
+  const opencl::KernelFile file[] = {{"warned.cl", text.c_str()}};
+  testing::internal::CaptureStderr();
+  testing::internal::CaptureStdout();
+  EXPECT_NO_THROW(
+      opencl::BuildProgram(context->context(), context->devices(), file, 1,
+                           OpenClBackend::BuildOptions(test::SmallParams(7, 5, 1), 1, 1, true)));
+  const std::string out = testing::internal::GetCapturedStdout();
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  EXPECT_EQ(out, "");
+}
+
 TEST(OpenClRuntime, ProgramBuildsWaitForPoclsCacheLock) {
   FREESPACE_DEVICE_OR_SKIP(found);
   const auto context = opencl::DeviceContext::Get(found);
