@@ -18,8 +18,6 @@
 // kinds of pull. No cell is looked at again.
 #include "core/inside_polygon.hpp"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 
@@ -51,12 +49,25 @@ struct Clip {
   int n = 0;
   // Keeps the part where c0 + c1 * alpha + c2 * beta >= 0 (Sutherland-Hodgman).
   void Cut(double c0, double c1, double c2) {
+    double f[8];
+    bool all_in = true, all_out = true;
+    for (int i = 0; i < n; ++i) {
+      f[i] = c0 + c1 * v[i][0] + c2 * v[i][1];
+      all_in = all_in && f[i] >= 0;
+      all_out = all_out && f[i] < 0;
+    }
+    if (all_in) return;
+    if (all_out) {
+      n = 0;
+      return;
+    }
     double out[8][2];
     int m = 0;
     for (int i = 0; i < n; ++i) {
+      const int j = i + 1 < n ? i + 1 : 0;
       const double* p = v[i];
-      const double* q = v[(i + 1) % n];
-      const double fp = c0 + c1 * p[0] + c2 * p[1], fq = c0 + c1 * q[0] + c2 * q[1];
+      const double* q = v[j];
+      const double fp = f[i], fq = f[j];
       if (fp >= 0) {
         out[m][0] = p[0];
         out[m][1] = p[1];
@@ -78,7 +89,8 @@ struct Clip {
   double Area() const {
     double a = 0.0;
     for (int i = 0; i < n; ++i) {
-      a += v[i][0] * v[(i + 1) % n][1] - v[i][1] * v[(i + 1) % n][0];
+      const int j = i + 1 < n ? i + 1 : 0;
+      a += v[i][0] * v[j][1] - v[i][1] * v[j][0];
     }
     return 0.5 * std::abs(a);
   }
@@ -94,26 +106,25 @@ struct PullBounds {
     // Wholly beyond the edge u -> v (up to rounding: the cells a ray ended on): nothing to
     // limit. The edge's normal towards the sensor, against each corner.
     const Vec2 normal(u.y() - v.y(), v.x() - u.x());  // (v - u) turned left
-    const double reach = kEdgeTolerance * det;       // det = normal . (0 - u) relative
+    const double reach = kEdgeTolerance * det;        // det = normal . (0 - u) relative
+    const Vec2 corners[4] = {Vec2(col, row) - sensor, Vec2(col + 1, row) - sensor,
+                             Vec2(col + 1, row + 1) - sensor, Vec2(col, row + 1) - sensor};
     bool near = false;
-    for (const Vec2& corner :
-         {Vec2(col, row), Vec2(col + 1, row), Vec2(col + 1, row + 1), Vec2(col, row + 1)}) {
-      near = near || normal.dot(corner - sensor - u) > reach;
-    }
+    for (const Vec2& w : corners) near = near || normal.dot(w - u) > reach;
     if (!near) return;
+    // The corners in (alpha, beta), divided by det: a corner on a ray's end (a ray that
+    // ended at a cell corner) gets exactly alpha = 1 or beta = 1.
     Clip cell;
     double least = INFINITY;
-    for (const Vec2& corner :
-         {Vec2(col, row), Vec2(col + 1, row), Vec2(col + 1, row + 1), Vec2(col, row + 1)}) {
-      const Vec2 w = corner - sensor;
+    for (const Vec2& w : corners) {
       double* ab = cell.v[cell.n++];
       ab[0] = Cross(w, v) / det;
       ab[1] = Cross(u, w) / det;
       least = std::min(least, ab[0] + ab[1]);
     }
     if (least >= 1.0 - kEdgeTolerance) return;
-    cell.Cut(0, 1, 0);         // alpha >= 0
-    cell.Cut(0, 0, 1);         // beta >= 0
+    cell.Cut(0, 1, 0);  // alpha >= 0
+    cell.Cut(0, 0, 1);  // beta >= 0
     // The overlap's area in cells^2 is det times its area in (alpha, beta).
     if (cell.n < 3 || cell.Area() * det <= kAreaTolerance) return;
     for (int i = 0; i < cell.n; ++i) both = std::min(both, cell.v[i][0] + cell.v[i][1]);
@@ -146,12 +157,8 @@ struct PullBounds {
 
 }  // namespace
 
-InsidePolygonBuilder::InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon,
-                                           int threads)
-    : width_(width),
-      height_(height),
-      simplifier_(max_vertices, epsilon),
-      arena_(threads > 0 ? threads : tbb::task_arena::automatic) {
+InsidePolygonBuilder::InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon)
+    : width_(width), height_(height), simplifier_(max_vertices, epsilon) {
   // One ray per distinct border cell: the corner cells, which two labels share, once.
   const int labels = BorderLabelCount(height, width);
   const CellIndex first = BorderCell(0, height, width);
@@ -178,8 +185,8 @@ void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sen
                                            double* scale_b) const {
   *scale_a = *scale_b = 1.0;
   const Vec2 u = a - sensor, v = b - sensor;
-  const double det = Cross(u, v);        // twice the triangle's area
-  if (det <= kAreaTolerance) return;     // no area: the edge runs along its rays
+  const double det = Cross(u, v);     // twice the triangle's area
+  if (det <= kAreaTolerance) return;  // no area: the edge runs along its rays
   PullBounds bounds;
   const double y0 = std::min(a.y(), b.y()) - kReach, y1 = std::max(a.y(), b.y()) + kReach;
   const int r0 = std::max(near.row_min, int(Floor(y0)));
@@ -235,7 +242,7 @@ void InsidePolygonBuilder::PullInsideRing(const Vec2& sensor, int i, int j, doub
     // Half a turn or more, or no area: the edge cannot pass the ring on its far side.
     if (det < -kAreaTolerance) bounds.both = bounds.only_a = bounds.only_b = 0.0;
   } else {
-    for (int k = (i + 1) % n; k != j; k = (k + 1) % n) {
+    for (int k = i + 1 < n ? i + 1 : 0; k != j; k = k + 1 < n ? k + 1 : 0) {
       const Vec2 p = ring_[std::size_t(k)] - sensor;
       // p must lie on or beyond the edge: both ends scaled by s, only b, or only a.
       bounds.both = std::min(bounds.both, Cross(p, b - a) / det);
@@ -255,11 +262,15 @@ InsidePolygonBuilder::NearSide InsidePolygonBuilder::Near(const Vec2& sensor, co
   // cells beyond the line touch the triangle along the edge only.
   if (a.kind == b.kind && a.line == b.line) {
     if (a.kind == kRayCrossX) {
-      if (sensor.x() < a.line) near.col_max = a.line - 1;
-      else near.col_min = a.line;
+      if (sensor.x() < a.line)
+        near.col_max = a.line - 1;
+      else
+        near.col_min = a.line;
     } else if (a.kind == kRayCrossY) {
-      if (sensor.y() < a.line) near.row_max = a.line - 1;
-      else near.row_min = a.line;
+      if (sensor.y() < a.line)
+        near.row_max = a.line - 1;
+      else
+        near.row_min = a.line;
     }
   }
   return near;
@@ -276,7 +287,7 @@ void InsidePolygonBuilder::Compact() {
   std::size_t count = 0;
   for (std::size_t k = 0; k < m; ++k) {
     const Vec2& previous = count > 0 ? ring_[count - 1] : ring_[m - 1];
-    if (inner(previous, ring_[k], ring_[(k + 1) % m])) continue;
+    if (inner(previous, ring_[k], ring_[k + 1 < m ? k + 1 : 0])) continue;
     ring_[count++] = ring_[k];
   }
   ring_.resize(count);
@@ -318,7 +329,7 @@ bool InsidePolygonBuilder::RayEnds(const SensorCell& s, const std::vector<RaySto
 }
 
 void InsidePolygonBuilder::BetweenRays(const MaskView& mask, const Vec2& sensor, int k) {
-  const int next = (k + 1) % int(end_.size());
+  const int next = k + 1 < int(end_.size()) ? k + 1 : 0;
   const RayStop& a = end_stop_[std::size_t(k)];
   const RayStop& b = end_stop_[std::size_t(next)];
   need_a_[std::size_t(k)] = need_b_[std::size_t(k)] = 1.0;
@@ -342,7 +353,8 @@ void InsidePolygonBuilder::BetweenRays(const MaskView& mask, const Vec2& sensor,
   if (a.kind == b.kind && a.line == b.line && (a.kind == kRayCrossX || a.kind == kRayCrossY)) {
     // Into one cell, or into two beside each other along the line: the one ray a came through.
     if (a.cell == b.cell || (a.kind == kRayCrossX && std::abs(a.cell - b.cell) == width_) ||
-        (a.kind == kRayCrossY && std::abs(a.cell - b.cell) == 1 && a.cell / width_ == b.cell / width_)) {
+        (a.kind == kRayCrossY && std::abs(a.cell - b.cell) == 1 &&
+         a.cell / width_ == b.cell / width_)) {
       return;
     }
     const bool x = a.kind == kRayCrossX;
@@ -357,15 +369,16 @@ void InsidePolygonBuilder::BetweenRays(const MaskView& mask, const Vec2& sensor,
     }
     if (clear) return;
   }
-  PullBetweenRays(mask, sensor, end_[std::size_t(k)], end_[std::size_t(next)],
-                  Near(sensor, a, b), &need_a_[std::size_t(k)], &need_b_[std::size_t(k)]);
+  PullBetweenRays(mask, sensor, end_[std::size_t(k)], end_[std::size_t(next)], Near(sensor, a, b),
+                  &need_a_[std::size_t(k)], &need_b_[std::size_t(k)]);
 }
 
 void InsidePolygonBuilder::AssembleRing(const Vec2& sensor) {
   const int m = int(end_.size());
   ring_.clear();
   for (int k = 0; k < m; ++k) {
-    const double scale = std::min(need_a_[std::size_t(k)], need_b_[std::size_t((k + m - 1) % m)]);
+    const double scale =
+        std::min(need_a_[std::size_t(k)], need_b_[std::size_t(k > 0 ? k - 1 : m - 1)]);
     ring_.push_back(sensor + scale * (end_[std::size_t(k)] - sensor));
     if (corner_[std::size_t(k)]) ring_.push_back(corner_at_[std::size_t(k)]);
   }
@@ -381,28 +394,21 @@ bool InsidePolygonBuilder::Build(const MaskView& mask, const SensorCell& s,
   const Vec2 sensor(double(s.x) / kFixedOne, double(s.y) / kFixedOne);
   // Neighbouring rays can pass a cell outside the mask between them: the ring goes round it or
   // is pulled in first, so that the simplification works on a ring whose fan lies in the mask.
-  arena_.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, int(end_.size()), 64),
-                      [&](const tbb::blocked_range<int>& range) {
-                        for (int k = range.begin(); k != range.end(); ++k) {
-                          BetweenRays(mask, sensor, k);
-                        }
-                      });
-  });
+  for (int k = 0; k < int(end_.size()); ++k) BetweenRays(mask, sensor, k);
   AssembleRing(sensor);
   *error = simplifier_.Simplify(ring_, sensor, &kept_);
   const int n = int(kept_.size());
   scale_.assign(std::size_t(n), 1.0);
   for (int k = 0; k < n; ++k) {
-    const int next = (k + 1) % n;
+    const int next = k + 1 < n ? k + 1 : 0;
     double sa = 1.0, sb = 1.0;
     PullInsideRing(sensor, kept_[std::size_t(k)], kept_[std::size_t(next)], &sa, &sb);
     scale_[std::size_t(k)] = std::min(scale_[std::size_t(k)], sa);
     scale_[std::size_t(next)] = std::min(scale_[std::size_t(next)], sb);
   }
   for (int k = 0; k < n; ++k) {
-    polygon->push_back(sensor +
-                       scale_[std::size_t(k)] * (ring_[std::size_t(kept_[std::size_t(k)])] - sensor));
+    polygon->push_back(sensor + scale_[std::size_t(k)] *
+                                    (ring_[std::size_t(kept_[std::size_t(k)])] - sensor));
   }
   return Distinct(polygon);
 }

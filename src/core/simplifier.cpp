@@ -84,16 +84,20 @@ double LeftOf(const Vec2& a, const Vec2& b, const Vec2& p) {
 
 }  // namespace
 
-int PolygonSimplifier::ContainmentSplit(const std::vector<Vec2>& ring, const Vec2& inside) const {
+int PolygonSimplifier::ContainmentSplit(const std::vector<Vec2>& ring, const Vec2& inside,
+                                        int first) const {
   const int n = int(ring.size());
-  for (int s = 0; s < int(segments_.size()); ++s) {
+  for (int s = first; s < int(segments_.size()); ++s) {
     const Segment& g = segments_[s];
     if (g.worst < 0) continue;
     const Vec2& a = ring[g.from];
-    const Vec2& b = ring[(g.from + g.length) % n];
-    // A ring through `inside` itself (a ray of the conservative polygon blocked at once) has
-    // it on the edges that end there.
-    if (LeftOf(a, b, inside) > 0.0 || (a - inside).squaredNorm() <= 1e-18 ||
+    const int to = g.from + g.length;
+    const Vec2& b = ring[to < n ? to : to - n];
+    // `inside` strictly left of a -> b (the sign of LeftOf, without its division). A ring
+    // through `inside` itself (a ray of the conservative polygon blocked at once) has it on
+    // the edges that end there.
+    const Vec2 ab = b - a, ap = inside - a;
+    if (ab.x() * ap.y() - ab.y() * ap.x() > 0.0 || ap.squaredNorm() <= 1e-18 ||
         (b - inside).squaredNorm() <= 1e-18) {
       continue;
     }
@@ -141,12 +145,16 @@ double PolygonSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& in
   // subset of it contains the vehicle when the vehicle is left of every edge; and splitting an
   // edge that has it on its left keeps it there. So make every edge pass it on the left, with
   // the vertex that best bisects the edge, before spending vertices on shape.
+  // The segments before the one split last were checked and did not change: the search goes
+  // on from there.
   auto contain = [&] {
+    int first = 0;
     while (count < max_vertices_) {
-      const int s = ContainmentSplit(ring, inside);
+      const int s = ContainmentSplit(ring, inside, first);
       if (s < 0) break;
       Split(ring, s, Bisector(ring, s, inside));
       ++count;
+      first = s;
     }
   };
   contain();

@@ -66,7 +66,7 @@ class ConservativePolygon final : public PolygonExtractor {
         height_(config.map.height_cells),
         words_((width_ + 63) / 64),
         builder_(width_, height_, config.polygon.max_vertices,
-                 config.polygon.epsilon_m / config.map.resolution_m, config.backend.threads) {
+                 config.polygon.epsilon_m / config.map.resolution_m) {
     stops_.reserve(std::size_t(BorderLabelCount(height_, width_)));
     if (backend.HostMaskBits() == nullptr) mask_copy_.resize(std::size_t(words_) * height_);
   }

@@ -7,8 +7,6 @@
 // once more where a simplified edge cuts inside the ring.
 #pragma once
 
-#include <tbb/task_arena.h>
-
 #include <cstdint>
 #include <vector>
 
@@ -34,8 +32,8 @@ struct MaskView {
 class InsidePolygonBuilder {
  public:
   // width, height: the map in cells; max_vertices: N (>= 3); epsilon: tolerance in cells;
-  // threads: for the edges of the ring (0 = all cores). All memory is allocated here.
-  InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon, int threads = 0);
+  // All memory is allocated here; Build() runs on the calling thread.
+  InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon);
 
   // `stops`: the exact rays' stops on `mask`, one per border label (BorderCell order) from the
   // sensor `s`. Writes the polygon (counter-clockwise, map cells) into `polygon` and returns
@@ -79,16 +77,15 @@ class InsidePolygonBuilder {
 
   int width_, height_;
   PolygonSimplifier simplifier_;
-  std::vector<int> labels_;  // one label per distinct border cell, in label order
-  std::vector<Vec2> end_;            // where each ray ended
-  std::vector<RayStop> end_stop_;    // and how
+  std::vector<int> labels_;              // one label per distinct border cell, in label order
+  std::vector<Vec2> end_;                // where each ray ended
+  std::vector<RayStop> end_stop_;        // and how
   std::vector<double> need_a_, need_b_;  // per pair of rays: the scales of the first / second end
   std::vector<std::uint8_t> corner_;     // per pair of rays: a corner to go round
   std::vector<Vec2> corner_at_;          // and where
   std::vector<Vec2> ring_;
   std::vector<int> kept_;
   std::vector<double> scale_;
-  tbb::task_arena arena_;
 };
 
 }  // namespace freespace

@@ -31,8 +31,9 @@ class PolygonSimplifier {
   Segment Measure(const std::vector<Vec2>& ring, int from, int length) const;
   // Replaces segment s by two, meeting at ring vertex `vertex`.
   void Split(const std::vector<Vec2>& ring, int s, int vertex);
-  // A segment with interior vertices that does not pass `inside` on its left, or -1.
-  int ContainmentSplit(const std::vector<Vec2>& ring, const Vec2& inside) const;
+  // The first segment from `first` on with interior vertices that does not pass `inside` on
+  // its left, or -1.
+  int ContainmentSplit(const std::vector<Vec2>& ring, const Vec2& inside, int first) const;
   // The interior vertex of segment s that leaves `inside` farthest left of both halves.
   int Bisector(const std::vector<Vec2>& ring, int s, const Vec2& inside) const;
 
