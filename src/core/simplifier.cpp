@@ -93,11 +93,9 @@ int PolygonSimplifier::ContainmentSplit(const std::vector<Vec2>& ring, const Vec
     const Vec2& a = ring[g.from];
     const int to = g.from + g.length;
     const Vec2& b = ring[to < n ? to : to - n];
-    // `inside` strictly left of a -> b (the sign of LeftOf, without its division). A ring
-    // through `inside` itself (a ray of the conservative polygon blocked at once) has it on
-    // the edges that end there.
-    const Vec2 ab = b - a, ap = inside - a;
-    if (ab.x() * ap.y() - ab.y() * ap.x() > 0.0 || ap.squaredNorm() <= 1e-18 ||
+    // A ring through `inside` itself (a ray of the conservative polygon blocked at once) has
+    // it on the edges that end there.
+    if (LeftOf(a, b, inside) > 0.0 || (a - inside).squaredNorm() <= 1e-18 ||
         (b - inside).squaredNorm() <= 1e-18) {
       continue;
     }
