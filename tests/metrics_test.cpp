@@ -130,11 +130,24 @@ TEST(Metrics, PolygonIntrusionAndCoverageByHand) {
     EXPECT_DOUBLE_EQ(m.coverage, 3.0 / 14.0);
     EXPECT_DOUBLE_EQ(m.reference_seen_m2, 14.0);
     EXPECT_DOUBLE_EQ(m.coverage_seen, 3.0 / 14.0);
+    EXPECT_DOUBLE_EQ(m.reference_in_mask_m2, 14.0);  // the free mask holds every reference cell
+    EXPECT_DOUBLE_EQ(m.coverage_mask, 1.0);
+    // Two reference cells the map calls free but the free mask leaves out (the opening, say):
+    // the reference stays, the mask's share falls to 12 / 14 whatever the polygon.
+    HandMap opened = map;
+    opened.view.log_odds = opened.log_odds.data();
+    opened.view.free = opened.free.data();
+    opened.free[0] = opened.free[1] = 0;
+    const ScanMetrics o = QualityEvaluator().Evaluate(opened.view, polygon, truth);
+    EXPECT_DOUBLE_EQ(o.reference_free_m2, 14.0);
+    EXPECT_DOUBLE_EQ(o.reference_in_mask_m2, 12.0);
+    EXPECT_DOUBLE_EQ(o.coverage_mask, 12.0 / 14.0);
     // No in-sight polygon given: coverage is not scored; the seen-so-far one still is.
     TruthFrame blind = truth;
     blind.in_sight.clear();
     const ScanMetrics b = QualityEvaluator().Evaluate(map.view, polygon, blind);
     EXPECT_TRUE(std::isnan(b.coverage));
+    EXPECT_TRUE(std::isnan(b.coverage_mask));
     EXPECT_DOUBLE_EQ(b.coverage_seen, 3.0 / 14.0);
   }
   {

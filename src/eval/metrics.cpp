@@ -100,6 +100,8 @@ nlohmann::json ScanMetrics::ToJson() const {
           {"reference_free_m2", reference_free_m2},
           {"covered_free_m2", covered_free_m2},
           {"coverage", Number(coverage)},
+          {"reference_in_mask_m2", reference_in_mask_m2},
+          {"coverage_mask", Number(coverage_mask)},
           {"reference_seen_m2", reference_seen_m2},
           {"covered_seen_m2", covered_seen_m2},
           {"coverage_seen", Number(coverage_seen)}};
@@ -216,7 +218,7 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
 
   ScanMetrics m;
   double intrusion = 0.0, intrusion_moving = 0.0, intrusion_mask = 0.0, reference = 0.0,
-         covered = 0.0, reference_seen = 0.0, covered_seen = 0.0;
+         covered = 0.0, reference_seen = 0.0, covered_seen = 0.0, in_mask = 0.0;
   const std::size_t cells = std::size_t(map.width) * map.height;
   for (std::size_t i = 0; i < cells; ++i) {
     const LogOdds l = map.log_odds[i];
@@ -246,6 +248,7 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
       if (in_sight_[i]) {
         reference += 1.0;
         covered += polygon_[i];
+        in_mask += map.free[i] ? 1.0 : 0.0;
       }
       if (seen_[i]) {
         reference_seen += 1.0;
@@ -284,6 +287,8 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
   m.reference_free_m2 = reference * cell_area;
   m.covered_free_m2 = covered * cell_area;
   m.coverage = score_in_sight ? Ratio(covered, reference) : kNaN;
+  m.reference_in_mask_m2 = in_mask * cell_area;
+  m.coverage_mask = score_in_sight ? Ratio(in_mask, reference) : kNaN;
   m.reference_seen_m2 = reference_seen * cell_area;
   m.covered_seen_m2 = covered_seen * cell_area;
   m.coverage_seen = Ratio(covered_seen, reference_seen);
@@ -320,7 +325,8 @@ nlohmann::json MetricsSeries::Summary() const {
   };
   // Sums over all scans, for the pooled ratios.
   double correct = 0, observed = 0, false_free = 0, occupied = 0, moving = 0, majority = 0,
-         mask = 0, covered = 0, reference = 0, covered_seen = 0, reference_seen = 0, border = 0;
+         mask = 0, covered = 0, reference = 0, covered_seen = 0, reference_seen = 0, border = 0,
+         in_mask = 0;
   for (const ScanMetrics& m : scans_) {
     correct += double(m.correct);
     observed += double(m.observed);
@@ -331,6 +337,7 @@ nlohmann::json MetricsSeries::Summary() const {
     mask += double(m.false_free_mask);
     covered += m.covered_free_m2;
     reference += m.reference_free_m2;
+    in_mask += m.reference_in_mask_m2;
     covered_seen += m.covered_seen_m2;
     reference_seen += m.reference_seen_m2;
     border += double(m.errors_at_border);
@@ -347,6 +354,8 @@ nlohmann::json MetricsSeries::Summary() const {
   ffm["pooled"] = Number(Ratio(mask, occupied));
   nlohmann::json coverage = stats([](const ScanMetrics& m) { return m.coverage; });
   coverage["pooled"] = Number(Ratio(covered, reference));
+  nlohmann::json coverage_mask = stats([](const ScanMetrics& m) { return m.coverage_mask; });
+  coverage_mask["pooled"] = Number(Ratio(in_mask, reference));
   nlohmann::json seen = stats([](const ScanMetrics& m) { return m.coverage_seen; });
   seen["pooled"] = Number(Ratio(covered_seen, reference_seen));
   return {
@@ -360,6 +369,7 @@ nlohmann::json MetricsSeries::Summary() const {
       {"intrusion_moving_m2", stats([](const ScanMetrics& m) { return m.intrusion_moving_m2; })},
       {"intrusion_mask_m2", stats([](const ScanMetrics& m) { return m.intrusion_mask_m2; })},
       {"coverage", coverage},
+      {"coverage_mask", coverage_mask},
       {"coverage_seen", seen},
       {"polygon_area_m2", stats([](const ScanMetrics& m) { return m.polygon_area_m2; })},
       {"observed_cells", stats([](const ScanMetrics& m) { return double(m.observed); })},

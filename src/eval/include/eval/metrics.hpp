@@ -51,9 +51,12 @@ struct ScanMetrics {
                                    // (map errors; the rest is the polygon's own)
   // Coverage (docs/metrics.md): the reference is the truly free, observed cells in sight of
   // the sensor now (TruthFrame::in_sight); NaN when in_sight is empty.
-  double reference_free_m2 = 0.0;  // truly free cells, observed, in sight now
-  double covered_free_m2 = 0.0;    // polygon area on those cells
-  double coverage = 0.0;           // covered_free_m2 / reference_free_m2
+  double reference_free_m2 = 0.0;     // truly free cells, observed, in sight now
+  double covered_free_m2 = 0.0;       // polygon area on those cells
+  double coverage = 0.0;              // covered_free_m2 / reference_free_m2
+  double reference_in_mask_m2 = 0.0;  // of reference_free_m2, cells the free mask calls free
+  double coverage_mask = 0.0;         // reference_in_mask_m2 / reference_free_m2: what a polygon
+                                      // drawn on this free mask could cover at most
   // The same over the truly free, observed cells seen at any scan so far (hidden ones too).
   double reference_seen_m2 = 0.0;
   double covered_seen_m2 = 0.0;
