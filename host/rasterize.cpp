@@ -71,6 +71,24 @@ void RasterizeRow(const std::int32_t* v, int n, int width, int row, std::uint8_t
 
 }  // namespace host
 
+// The cells of rows [r0, r1) the outline of job's ring touches, but for its two edges at the
+// sensor (vertex 0), are no longer free (RasterJob::clear_outline).
+void HostBackend::ClearOutline(const RasterJob& job, int r0, int r1) {
+  const int width = params_.width;
+  const std::int32_t* v = job.vertices;
+  for (int i = 1; i + 1 < job.vertex_count; ++i) {
+    const std::int64_t x0 = v[2 * i], y0 = v[2 * i + 1], x1 = v[2 * i + 2], y1 = v[2 * i + 3];
+    const int ra = int(std::max<std::int64_t>(host::FloorDiv(std::min(y0, y1), kFixedOne), r0));
+    const int rb = int(std::min<std::int64_t>(host::FloorDiv(std::max(y0, y1), kFixedOne) + 1, r1));
+    for (int r = ra; r < rb; ++r) {
+      int lo = 0, hi = -1;
+      if (!OutlineColumns(x0, y0, x1, y1, r, width, &lo, &hi)) continue;
+      std::uint8_t* row = update_.data() + std::size_t(r) * width;
+      std::fill(row + lo, row + hi + 1, kUpdateNone);
+    }
+  }
+}
+
 void HostBackend::Rasterize(const RasterJob& job) {
   const int width = params_.width;
   const int r0 = std::max(job.row_begin, 0);
@@ -110,6 +128,7 @@ void HostBackend::Rasterize(const RasterJob& job) {
                       });
   });
 
+  if (job.clear_outline) ClearOutline(job, r0, r1);
   // Occupied wins over free: written after the fill.
   for (int i = 0; i < job.occupied_count; ++i) update[job.occupied[i]] = kUpdateOccupied;
 }

@@ -6,7 +6,10 @@
 // outside. A centre exactly on an edge counts as left of it.
 //
 // Edges toggle parity bits and kept echoes set bits in two bit planes (parity toggles,
-// occupied): one bit per cell, 32 cells a word, each row padded to whole words. The row pass
+// occupied): one bit per cell, 32 cells a word, each row padded to whole words. With job[5]
+// set (sensor_model.free_on_outline off) the edges between beams also set the bits of the cells
+// they touch in a third plane, the outline, which the occupied buffer holds after its own plane
+// (HEIGHT rows on): those cells get no free update (host/rasterize.cpp, ClearOutline). The row pass
 // scans each row's toggles, writes the row of the (padded) update mask and clears both planes
 // for the next scan; bits make the prefix XOR a few word operations and let edges meet in any
 // order (XOR commutes). The row pass can also fuse the mask into the map (kernel stage 2,
@@ -27,7 +30,8 @@
 //
 // The job buffer, written by the host each scan: a header of 8 ints, job[0] vertex count n,
 // job[1] count m of occupied cells on the rasterized rows, job[2] first row r0, job[3] end row
-// r1 (both clipped to the map, r0 < r1), job[4] count of occupied cells on other rows; then
+// r1 (both clipped to the map, r0 < r1), job[4] count of occupied cells on other rows, job[5]
+// 1 when the outline's cells get no free update (RasterJob::clear_outline); then
 // the n vertices (x, y in fixed point, map cell coordinates), the m occupied cells on the
 // rasterized rows sorted by row (row * WIDTH + col), r1 - r0 + 1 offsets into them (row r's
 // cells are [offset[r - r0], offset[r - r0 + 1])), and the occupied cells on other rows.
@@ -46,6 +50,8 @@
 #define JOB_CELLS(job) (JOB_VERTICES(job) + 2 * (job)[0])
 #define JOB_OFFSETS(job) (JOB_CELLS(job) + (job)[1])
 #define JOB_OTHER_CELLS(job) (JOB_OFFSETS(job) + (job)[3] - (job)[2] + 1)
+// The outline plane, after the occupied plane in the same buffer.
+#define OUTLINE_PLANE(occupied) ((occupied) + HEIGHT * RASTER_WORDS)
 
 // floor(a / b) for b > 0.
 long RasterFloorDiv(long a, long b) {
@@ -103,6 +109,43 @@ void RasterEdge(__global const int* v, int n, int i, long lo, long hi, __global 
   }
 }
 
+// OutlineColumns() of src/core/kernel_params.cpp: the columns [*c_lo, *c_hi] of row r that the
+// edge (x0, y0) -> (x1, y1) touches, false when it misses the row or the map's columns.
+bool RasterOutlineColumns(long x0, long y0, long x1, long y1, long r, int* c_lo, int* c_hi) {
+  const long top = r * RASTER_FIXED_ONE, bottom = top + RASTER_FIXED_ONE - 1;
+  if (max(y0, y1) < top || min(y0, y1) > bottom) return false;
+  long xa = x0, xb = x1;
+  if (y0 != y1) {
+    const long ya = max(min(y0, y1), top), yb = min(max(y0, y1), bottom);
+    const long sign = y1 > y0 ? 1 : -1, den = sign * (y1 - y0);
+    xa = x0 + RasterFloorDiv(sign * (ya - y0) * (x1 - x0), den);
+    xb = x0 + RasterFloorDiv(sign * (yb - y0) * (x1 - x0), den);
+  }
+  const long lo = RasterFloorDiv(min(xa, xb), RASTER_FIXED_ONE);
+  const long hi = RasterFloorDiv(max(xa, xb), RASTER_FIXED_ONE);
+  if (hi < 0 || lo >= WIDTH) return false;
+  *c_lo = (int)max(lo, 0L);
+  *c_hi = (int)min(hi, (long)WIDTH - 1);
+  return true;
+}
+
+// Sets the outline bits of edge i (1 <= i <= n - 2: between two beams) on its rows within
+// [lo, hi).
+void RasterOutline(__global const int* v, int i, long lo, long hi, __global uint* outline) {
+  const long x0 = v[2 * i], y0 = v[2 * i + 1], x1 = v[2 * i + 2], y1 = v[2 * i + 3];
+  const long ra = max(RasterFloorDiv(min(y0, y1), RASTER_FIXED_ONE), lo);
+  const long rb = min(RasterFloorDiv(max(y0, y1), RASTER_FIXED_ONE) + 1, hi);
+  for (long r = ra; r < rb; ++r) {
+    int c0, c1;
+    if (!RasterOutlineColumns(x0, y0, x1, y1, r, &c0, &c1)) continue;
+    for (int w = c0 >> 5; w <= (c1 >> 5); ++w) {
+      const int a = max(c0 - 32 * w, 0), b = min(c1 - 32 * w, 31);
+      const uint bits = (0xffffffffu >> (31 - (b - a))) << a;
+      RASTER_OR(&outline[r * RASTER_WORDS + w], bits);
+    }
+  }
+}
+
 // Marks kept echo `cell` (row * WIDTH + col) in the occupied plane.
 void RasterEcho(int cell, __global uint* occupied) {
   const int r = cell / WIDTH, c = cell % WIDTH;
@@ -123,6 +166,9 @@ __kernel void rasterize_edges(__global const int* job, __global uint* toggles,
   const int n = job[0], m = job[1], r0 = job[2], r1 = job[3], other = job[4];
   if (i < n) {
     RasterEdge(JOB_VERTICES(job), n, i, r0, r1, toggles);
+    if (job[5] && i >= 1 && i + 1 < n) {
+      RasterOutline(JOB_VERTICES(job), i, r0, r1, OUTLINE_PLANE(occupied));
+    }
   } else if (i < n + m) {
     RasterEcho(JOB_CELLS(job)[i - n], occupied);
   } else if (i < n + m + other) {
@@ -130,8 +176,8 @@ __kernel void rasterize_edges(__global const int* job, __global uint* toggles,
   }
 }
 
-// Sixteen mask values from sixteen parity and occupied bits (occupied wins), zero on lanes
-// past the map's width (c0 is the column of lane 0).
+// Sixteen mask values from sixteen parity and occupied bits (occupied wins; the outline's
+// parity bits cleared before), zero on lanes past the map's width (c0 is the column of lane 0).
 uchar16 RasterExpand16(uint parity, uint occupied, int c0) {
   const ushort16 lane = (ushort16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   const ushort16 p = ((ushort16)((ushort)parity) >> lane) & (ushort16)(1);
@@ -202,11 +248,14 @@ void RasterWords(__global uint* toggles, __global uint* occupied, __global uchar
                  RasterMap map, int r, int w0, int w1, uint fill) {
   __global uint* row_toggles = toggles + r * RASTER_WORDS;
   __global uint* row_occupied = occupied + r * RASTER_WORDS;
+  __global uint* row_outline = OUTLINE_PLANE(occupied) + r * RASTER_WORDS;
   for (int w = w0; w < w1; ++w) {
     uint x = row_toggles[w];
     const uint o = row_occupied[w];
+    const uint edge = row_outline[w];
     row_toggles[w] = 0;
     row_occupied[w] = 0;
+    row_outline[w] = 0;
     // Inclusive prefix XOR of the word's bits, then the parity carried in from the left.
     x ^= x << 1;
     x ^= x << 2;
@@ -215,6 +264,7 @@ void RasterWords(__global uint* toggles, __global uint* occupied, __global uchar
     x ^= x << 16;
     x ^= fill;
     fill = (x >> 31) ? 0xffffffffu : 0u;
+    x &= ~edge;  // after the carry: the outline changes no parity
     // Whole aligned vectors: the padded row has room up to the next multiple of 32 columns.
     const int c0 = 32 * w, k = CELL(r, c0);
     const uchar16 lo = RasterExpand16(x, o, c0), hi = RasterExpand16(x >> 16, o >> 16, c0 + 16);
@@ -338,6 +388,11 @@ __kernel void rasterize_bands(__global const int* job, __global uint* toggles,
   const int lo = max(ba, r0), hi = min(bb, r1);
   if (lo < hi) {
     for (int i = 0; i < n; ++i) RasterEdge(JOB_VERTICES(job), n, i, lo, hi, toggles);
+    if (job[5]) {
+      for (int i = 1; i + 1 < n; ++i) {
+        RasterOutline(JOB_VERTICES(job), i, lo, hi, OUTLINE_PLANE(occupied));
+      }
+    }
     __global const int* cells = JOB_CELLS(job);
     __global const int* offsets = JOB_OFFSETS(job);
     for (int i = offsets[lo - r0]; i < offsets[hi - r0]; ++i) RasterEcho(cells[i], occupied);

@@ -47,10 +47,41 @@ std::vector<std::uint8_t> Oracle(const std::vector<std::int32_t>& v, int width, 
   return out;
 }
 
+// Clears, in `mask`, the free cells the outline of edges 1 .. n - 2 touches, by its definition
+// (RasterJob::clear_outline) taken point by point: in each row, the edge's x on its line at every
+// integer y of its part in the row, floor-divided; the cells from the least x to the greatest.
+void ClearOutlineOracle(const std::vector<std::int32_t>& v, int width, int height,
+                        std::vector<std::uint8_t>* mask) {
+  const auto floor_div = [](std::int64_t a, std::int64_t b) {
+    return a / b - ((a % b != 0 && (a < 0) != (b < 0)) ? 1 : 0);
+  };
+  const int n = int(v.size() / 2);
+  for (int i = 1; i + 1 < n; ++i) {
+    const std::int64_t x0 = v[2 * i], y0 = v[2 * i + 1], x1 = v[2 * i + 2], y1 = v[2 * i + 3];
+    for (int r = 0; r < height; ++r) {
+      std::int64_t lo = INT64_MAX, hi = INT64_MIN;
+      for (std::int64_t y = std::int64_t(r) * kFixedOne; y < std::int64_t(r + 1) * kFixedOne; ++y) {
+        if (y < std::min(y0, y1) || y > std::max(y0, y1)) continue;
+        const std::int64_t xa = y0 == y1 ? x0 : x0 + floor_div((y - y0) * (x1 - x0), y1 - y0);
+        const std::int64_t xb = y0 == y1 ? x1 : xa;
+        lo = std::min({lo, xa, xb});
+        hi = std::max({hi, xa, xb});
+      }
+      if (lo > hi) continue;
+      for (std::int64_t c = std::max<std::int64_t>(floor_div(lo, kFixedOne), 0);
+           c <= std::min<std::int64_t>(floor_div(hi, kFixedOne), width - 1); ++c) {
+        std::uint8_t& cell = (*mask)[std::size_t(r) * width + std::size_t(c)];
+        if (cell == kUpdateFree) cell = kUpdateNone;
+      }
+    }
+  }
+}
+
 std::vector<std::uint8_t> Rasterize(Backend& backend, const std::vector<std::int32_t>& ring,
                                     const std::vector<std::int32_t>& occupied, int row_begin,
-                                    int row_end) {
+                                    int row_end, bool clear_outline = false) {
   RasterJob job;
+  job.clear_outline = clear_outline;
   job.vertices = ring.data();
   job.vertex_count = int(ring.size() / 2);
   job.occupied = occupied.data();
@@ -87,6 +118,27 @@ TEST_P(RasterizeTest, TriangleHandComputed) {
       EXPECT_EQ(mask[r * 8 + c], want) << "row " << r << " col " << c;
     }
   }
+}
+
+TEST_P(RasterizeTest, CellsTheOutlineTouchesGetNoFreeUpdate) {
+  FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), SmallParams(8, 8));
+  // The triangle above with sensor_model.free_on_outline off: its one edge between beams, the
+  // hypotenuse from (8, 0) to (0, 8), touches the cells with c + r = 7 (and c + r = 8, outside
+  // anyway); the two edges at the sensor (vertex 0) clear nothing. The echo keeps its cell.
+  const auto mask = Rasterize(*backend, Ring({{0, 0}, {8, 0}, {0, 8}}), {2 * 8 + 1}, 0, 8,
+                              /*clear_outline=*/true);
+  for (int r = 0; r < 8; ++r) {
+    for (int c = 0; c < 8; ++c) {
+      const std::uint8_t want = (r == 2 && c == 1) ? kUpdateOccupied
+                                : c + r <= 6       ? kUpdateFree
+                                                   : kUpdateNone;
+      EXPECT_EQ(mask[r * 8 + c], want) << "row " << r << " col " << c;
+    }
+  }
+  // The next scan without the rule fills the diagonal again: nothing of the outline is left over.
+  const auto again = Rasterize(*backend, Ring({{0, 0}, {8, 0}, {0, 8}}), {}, 0, 8);
+  EXPECT_EQ(again[7], kUpdateFree);
+  EXPECT_EQ(again[7 * 8], kUpdateFree);
 }
 
 TEST_P(RasterizeTest, RowsOutsideTheRangeAreUntouched) {
@@ -139,6 +191,12 @@ TEST_P(RasterizeTest, RandomStarPolygonsMatchTheExactOracle) {
       }
       EXPECT_EQ(Rasterize(*backend, ring, occupied, 0, height), expected)
           << width << "x" << height << " trial " << trial;
+      // With the outline rule: the same less the free cells its outline touches.
+      auto outlined = Oracle(ring, width, height);
+      ClearOutlineOracle(ring, width, height, &outlined);
+      for (const std::int32_t cell : occupied) outlined[cell] = kUpdateOccupied;
+      EXPECT_EQ(Rasterize(*backend, ring, occupied, 0, height, true), outlined)
+          << width << "x" << height << " trial " << trial << ", outline";
       // The host's per-row reference agrees as well.
       std::vector<std::uint8_t> row(width);
       for (int r = 0; r < height; ++r) {

@@ -54,6 +54,10 @@ struct SensorModelConfig {
   double p_occupied = 0.65;  // (0.5, p_max)
   double p_min = 0.03;       // lower clamp of a cell's probability; (0, 0.5)
   double p_max = 0.97;       // upper clamp; (0.5, 1)
+  // The paper's rule: a cell whose centre is inside the scan's polygon is updated free. Off:
+  // not when the polygon's outline between two beams touches the cell, which may hold the
+  // obstacle's face (not in the paper; docs/design.md).
+  bool free_on_outline = true;
 };
 
 enum class AlignmentKind {

@@ -60,6 +60,7 @@ Config RoadConfig() {
   config.polygon.epsilon_m = 0.12;
   config.polygon.margin_cells = 1;
   config.polygon.margin_cone_deg = 45.0;
+  config.sensor_model.free_on_outline = false;
   return config;
 }
 

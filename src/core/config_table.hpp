@@ -149,6 +149,8 @@ void VisitSensorModel(C& m, Visitor& v) {
     {"", Open(0.5, 1), "probability of a cell holding a kept echo (paper V.B)"});
   v("p_min", m.p_min, {"", Open(0, 0.5), "lower clamp of a cell's probability in the map"});
   v("p_max", m.p_max, {"", Open(0.5, 1), "upper clamp of a cell's probability in the map"});
+  v("free_on_outline", m.free_on_outline,
+    {"", {}, "full-scan polygon: a cell its outline touches is updated free (paper II) or not"});
 }
 
 template <class C, class Visitor>

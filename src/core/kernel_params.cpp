@@ -43,6 +43,36 @@ KernelParams MakeKernelParams(const Config& config) {
   return p;
 }
 
+namespace {
+
+std::int64_t FloorDivide(std::int64_t a, std::int64_t b) {  // b > 0
+  const std::int64_t q = a / b;
+  return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+
+}  // namespace
+
+bool OutlineColumns(std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int64_t y1, int row,
+                    int width, int* c_lo, int* c_hi) {
+  const std::int64_t top = std::int64_t(row) * kFixedOne, bottom = top + kFixedOne - 1;
+  if (std::max(y0, y1) < top || std::min(y0, y1) > bottom) return false;
+  std::int64_t xa = x0, xb = x1;
+  if (y0 != y1) {
+    // x on the edge's line at the part's two ends, floor-divided with a positive denominator.
+    const std::int64_t ya = std::max(std::min(y0, y1), top),
+                       yb = std::min(std::max(y0, y1), bottom);
+    const std::int64_t sign = y1 > y0 ? 1 : -1, den = sign * (y1 - y0);
+    xa = x0 + FloorDivide(sign * (ya - y0) * (x1 - x0), den);
+    xb = x0 + FloorDivide(sign * (yb - y0) * (x1 - x0), den);
+  }
+  const std::int64_t lo = FloorDivide(std::min(xa, xb), kFixedOne);
+  const std::int64_t hi = FloorDivide(std::max(xa, xb), kFixedOne);
+  if (hi < 0 || lo >= width) return false;
+  *c_lo = int(std::max<std::int64_t>(lo, 0));
+  *c_hi = int(std::min<std::int64_t>(hi, width - 1));
+  return true;
+}
+
 void CollectEdges(const std::int32_t* stop, int labels, int width, std::uint64_t* seen,
                   std::vector<CellIndex>* edges) {
   edges->clear();

@@ -19,6 +19,7 @@ int BinCount(const SensorConfig& s) {
 Preprocessor::Preprocessor(const Config& config)
     : sensor_(config.sensor),
       resolution_m_(config.map.resolution_m),
+      clear_outline_(!config.sensor_model.free_on_outline),
       min_angle_(config.sensor.min_angle_deg * kDegToRad),
       bin_width_(config.sensor.angular_resolution_deg * kDegToRad),
       bins_(BinCount(config.sensor)),
@@ -182,6 +183,7 @@ void Preprocessor::Project(const Vec2& sensor_cells, double yaw, int width, int 
   job->vertex_count = int(vertices_.size() / 2);
   job->occupied = occupied_.data();
   job->occupied_count = int(occupied_.size());
+  job->clear_outline = clear_outline_;
   job->row_begin = std::clamp(r0, 0, height);
   job->row_end = std::clamp(r1, 0, height);
 }

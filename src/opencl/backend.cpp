@@ -218,7 +218,7 @@ void OpenClBackend::AllocateBuffers() {
   for (opencl::Mem& map : map_) map = buffer(padded * sizeof(LogOdds));
   update_ = buffer(padded);
   toggles_ = buffer(bit_words * 4);
-  occupied_ = buffer(bit_words * 4);
+  occupied_ = buffer(2 * bit_words * 4);  // the occupied plane, then the outline plane
   const std::size_t level_bytes = std::size_t(2 * BitWords()) * height * 4;
   for (int k = 0; k < 2; ++k) {
     strong_[k] = buffer(level_bytes);
@@ -251,7 +251,7 @@ void OpenClBackend::AllocateBuffers() {
   for (opencl::Mem& map : map_) Fill(map.get(), padded * sizeof(LogOdds));
   Fill(update_.get(), padded);
   Fill(toggles_.get(), bit_words * 4);
-  Fill(occupied_.get(), bit_words * 4);
+  Fill(occupied_.get(), 2 * bit_words * 4);
   for (int k = 0; k < 2; ++k) {
     Fill(strong_[k].get(), level_bytes);
     Fill(weak_[k].get(), level_bytes);

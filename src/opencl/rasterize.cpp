@@ -160,7 +160,7 @@ void OpenClBackend::Rasterize(const RasterJob& job) {
   const std::size_t ints =
       8 + 2 * std::size_t(n) + std::size_t(m) + std::size_t(rows) + 1 + std::size_t(other);
   std::int32_t* staging = Staging(ints);
-  const std::int32_t header[8] = {n, m, r0, r1, other, 0, 0, 0};
+  const std::int32_t header[8] = {n, m, r0, r1, other, job.clear_outline ? 1 : 0, 0, 0};
   std::memcpy(staging, header, sizeof header);
   if (n > 0) std::memcpy(staging + 8, job.vertices, 2 * std::size_t(n) * 4);
   std::int32_t* cells = staging + 8 + 2 * std::size_t(n);

@@ -117,7 +117,17 @@ struct RasterJob {
   // Rows of the update mask this scan rewrites; stage 2 reads the same rows.
   int row_begin = 0;
   int row_end = 0;
+  // sensor_model.free_on_outline off: the cells the ring's outline touches get no free update,
+  // but for the two edges at vertex 0 (the sensor): OutlineColumns() of edges 1 .. n - 2.
+  bool clear_outline = false;
 };
+
+// The columns [*c_lo, *c_hi] of row r that the edge (x0, y0) -> (x1, y1) (fixed point) touches:
+// its x over its part with 256 r <= y <= 256 r + 255, each end's x floor-divided from the
+// edge's own line; a horizontal edge its whole x range. Returns false when it misses the row or
+// the columns [0, width). The same integers on every backend (kernels/rasterize.cl mirrors it).
+bool OutlineColumns(std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int64_t y1, int row,
+                    int width, int* c_lo, int* c_hi);
 
 // Input of the conventional inverse sensor model (the paper's baseline) for one scan: one
 // Bresenham ray per kept echo from the sensor's cell to the echo's cell.
@@ -207,7 +217,8 @@ class Backend {
   // Kernel stage 1 (enhanced inverse sensor model). Rewrites the update mask on rows
   // [row_begin, row_end): kUpdateFree where the cell centre is inside the polygon (even-odd
   // rule; a centre exactly on an edge counts as left of it), kUpdateOccupied on the listed
-  // cells (occupied wins), kUpdateNone elsewhere.
+  // cells (occupied wins), kUpdateNone elsewhere; with job.clear_outline, a cell the outline
+  // touches (RasterJob) is kUpdateNone unless occupied.
   virtual void Rasterize(const RasterJob& job) = 0;
 
   // Kernel stage 2. On rows [row_begin, row_end): map += l_free / l_occupied where the update

@@ -54,8 +54,9 @@ class Preprocessor {
  private:
   SensorConfig sensor_;
   double resolution_m_;
-  double min_angle_;  // radians
-  double bin_width_;  // radians
+  bool clear_outline_;  // !sensor_model.free_on_outline (RasterJob::clear_outline)
+  double min_angle_;    // radians
+  double bin_width_;    // radians
   int bins_;
   ClutterFilter clutter_;
 
