@@ -55,7 +55,7 @@ class HostBackend final : public Backend {
 
  private:
   std::size_t cells() const { return std::size_t(params_.width) * params_.height; }
-  int words() const { return (params_.width + 63) / 64; }  // bitset words per row
+  int words() const { return (params_.width + 63) / 64; }   // bitset words per row
   void ClearOutline(const RasterJob& job, int r0, int r1);  // host/rasterize.cpp
 
   tbb::task_arena arena_;
