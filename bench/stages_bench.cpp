@@ -64,6 +64,20 @@ void BM_Rasterize(benchmark::State& state) {
   s.Report(state);
 }
 
+// The same scan with sensor_model.free_on_outline off: the outline's cells cleared as well.
+void BM_RasterizeOutline(benchmark::State& state) {
+  Stage s;
+  if (!s.Ready(state)) return;
+  RasterJob job = s.input->job;
+  job.clear_outline = true;
+  for (auto _ : state) {
+    s.backend->Rasterize(job);
+    s.backend->Finish();
+    s.Collect(state, &StageTimes::rasterize_us);
+  }
+  s.Report(state);
+}
+
 void BM_Fuse(benchmark::State& state) {
   Stage s;
   if (!s.Ready(state)) return;
@@ -156,6 +170,7 @@ void Sizes(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_Preprocess)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Rasterize)->Apply(Sizes);
+BENCHMARK(BM_RasterizeOutline)->Apply(Sizes);
 BENCHMARK(BM_Fuse)->Apply(Sizes);
 BENCHMARK(BM_Classify)->Apply(Sizes);
 BENCHMARK(BM_InSight)->Apply(Sizes);

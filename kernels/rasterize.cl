@@ -110,16 +110,22 @@ void RasterEdge(__global const int* v, int n, int i, long lo, long hi, __global 
 }
 
 // OutlineColumns() of src/core/kernel_params.cpp: the columns [*c_lo, *c_hi] of row r that the
-// edge (x0, y0) -> (x1, y1) touches, false when it misses the row or the map's columns.
+// edge (x0, y0) -> (x1, y1) touches (its part with 256 r <= y <= 256 (r + 1)), false when it
+// misses the row or the map's columns.
+long RasterOutlineX(long x0, long y0, long x1, long y1, long y) {
+  if (y == y0) return x0;
+  if (y == y1) return x1;
+  const long sign = y1 > y0 ? 1 : -1;
+  return x0 + RasterFloorDiv(sign * (y - y0) * (x1 - x0), sign * (y1 - y0));
+}
+
 bool RasterOutlineColumns(long x0, long y0, long x1, long y1, long r, int* c_lo, int* c_hi) {
-  const long top = r * RASTER_FIXED_ONE, bottom = top + RASTER_FIXED_ONE - 1;
+  const long top = r * RASTER_FIXED_ONE, bottom = top + RASTER_FIXED_ONE;
   if (max(y0, y1) < top || min(y0, y1) > bottom) return false;
   long xa = x0, xb = x1;
   if (y0 != y1) {
-    const long ya = max(min(y0, y1), top), yb = min(max(y0, y1), bottom);
-    const long sign = y1 > y0 ? 1 : -1, den = sign * (y1 - y0);
-    xa = x0 + RasterFloorDiv(sign * (ya - y0) * (x1 - x0), den);
-    xb = x0 + RasterFloorDiv(sign * (yb - y0) * (x1 - x0), den);
+    xa = RasterOutlineX(x0, y0, x1, y1, max(min(y0, y1), top));
+    xb = RasterOutlineX(x0, y0, x1, y1, min(max(y0, y1), bottom));
   }
   const long lo = RasterFloorDiv(min(xa, xb), RASTER_FIXED_ONE);
   const long hi = RasterFloorDiv(max(xa, xb), RASTER_FIXED_ONE);
@@ -130,14 +136,23 @@ bool RasterOutlineColumns(long x0, long y0, long x1, long y1, long r, int* c_lo,
 }
 
 // Sets the outline bits of edge i (1 <= i <= n - 2: between two beams) on its rows within
-// [lo, hi).
+// [lo, hi): rows ra .. rb with 256 r <= max y and 256 (r + 1) >= min y (host/rasterize.cpp,
+// ClearOutline). An edge inside one row, clear of its boundaries, needs no division.
 void RasterOutline(__global const int* v, int i, long lo, long hi, __global uint* outline) {
   const long x0 = v[2 * i], y0 = v[2 * i + 1], x1 = v[2 * i + 2], y1 = v[2 * i + 3];
-  const long ra = max(RasterFloorDiv(min(y0, y1), RASTER_FIXED_ONE), lo);
-  const long rb = min(RasterFloorDiv(max(y0, y1), RASTER_FIXED_ONE) + 1, hi);
-  for (long r = ra; r < rb; ++r) {
+  const long ra = RasterFloorDiv(min(y0, y1) + RASTER_FIXED_ONE - 1, RASTER_FIXED_ONE) - 1;
+  const long rb = RasterFloorDiv(max(y0, y1), RASTER_FIXED_ONE);
+  for (long r = max(ra, lo); r <= min(rb, hi - 1); ++r) {
     int c0, c1;
-    if (!RasterOutlineColumns(x0, y0, x1, y1, r, &c0, &c1)) continue;
+    if (ra == rb) {
+      const long a = RasterFloorDiv(min(x0, x1), RASTER_FIXED_ONE);
+      const long b = RasterFloorDiv(max(x0, x1), RASTER_FIXED_ONE);
+      if (b < 0 || a >= WIDTH) continue;
+      c0 = (int)max(a, 0L);
+      c1 = (int)min(b, (long)WIDTH - 1);
+    } else if (!RasterOutlineColumns(x0, y0, x1, y1, r, &c0, &c1)) {
+      continue;
+    }
     for (int w = c0 >> 5; w <= (c1 >> 5); ++w) {
       const int a = max(c0 - 32 * w, 0), b = min(c1 - 32 * w, 31);
       const uint bits = (0xffffffffu >> (31 - (b - a))) << a;

@@ -48,8 +48,9 @@ std::vector<std::uint8_t> Oracle(const std::vector<std::int32_t>& v, int width, 
 }
 
 // Clears, in `mask`, the free cells the outline of edges 1 .. n - 2 touches, by its definition
-// (RasterJob::clear_outline) taken point by point: in each row, the edge's x on its line at every
-// integer y of its part in the row, floor-divided; the cells from the least x to the greatest.
+// (RasterJob::clear_outline) taken point by point: in each row r, the edge's x on its line at
+// every integer y of its part with 256 r <= y <= 256 (r + 1), floor-divided (a vertex's own x at
+// the vertex); the cells from the least x to the greatest.
 void ClearOutlineOracle(const std::vector<std::int32_t>& v, int width, int height,
                         std::vector<std::uint8_t>* mask) {
   const auto floor_div = [](std::int64_t a, std::int64_t b) {
@@ -60,7 +61,8 @@ void ClearOutlineOracle(const std::vector<std::int32_t>& v, int width, int heigh
     const std::int64_t x0 = v[2 * i], y0 = v[2 * i + 1], x1 = v[2 * i + 2], y1 = v[2 * i + 3];
     for (int r = 0; r < height; ++r) {
       std::int64_t lo = INT64_MAX, hi = INT64_MIN;
-      for (std::int64_t y = std::int64_t(r) * kFixedOne; y < std::int64_t(r + 1) * kFixedOne; ++y) {
+      for (std::int64_t y = std::int64_t(r) * kFixedOne; y <= std::int64_t(r + 1) * kFixedOne;
+           ++y) {
         if (y < std::min(y0, y1) || y > std::max(y0, y1)) continue;
         const std::int64_t xa = y0 == y1 ? x0 : x0 + floor_div((y - y0) * (x1 - x0), y1 - y0);
         const std::int64_t xb = y0 == y1 ? x1 : xa;

@@ -54,16 +54,20 @@ std::int64_t FloorDivide(std::int64_t a, std::int64_t b) {  // b > 0
 
 bool OutlineColumns(std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int64_t y1, int row,
                     int width, int* c_lo, int* c_hi) {
-  const std::int64_t top = std::int64_t(row) * kFixedOne, bottom = top + kFixedOne - 1;
+  const std::int64_t top = std::int64_t(row) * kFixedOne, bottom = top + kFixedOne;
   if (std::max(y0, y1) < top || std::min(y0, y1) > bottom) return false;
   std::int64_t xa = x0, xb = x1;
   if (y0 != y1) {
-    // x on the edge's line at the part's two ends, floor-divided with a positive denominator.
-    const std::int64_t ya = std::max(std::min(y0, y1), top),
-                       yb = std::min(std::max(y0, y1), bottom);
+    // x on the edge's line at the part's two ends (a vertex's own x where the part ends at one),
+    // floor-divided with a positive denominator.
     const std::int64_t sign = y1 > y0 ? 1 : -1, den = sign * (y1 - y0);
-    xa = x0 + FloorDivide(sign * (ya - y0) * (x1 - x0), den);
-    xb = x0 + FloorDivide(sign * (yb - y0) * (x1 - x0), den);
+    const auto x_at = [&](std::int64_t y) {
+      if (y == y0) return x0;
+      if (y == y1) return x1;
+      return x0 + FloorDivide(sign * (y - y0) * (x1 - x0), den);
+    };
+    xa = x_at(std::max(std::min(y0, y1), top));
+    xb = x_at(std::min(std::max(y0, y1), bottom));
   }
   const std::int64_t lo = FloorDivide(std::min(xa, xb), kFixedOne);
   const std::int64_t hi = FloorDivide(std::max(xa, xb), kFixedOne);

@@ -123,9 +123,10 @@ struct RasterJob {
 };
 
 // The columns [*c_lo, *c_hi] of row r that the edge (x0, y0) -> (x1, y1) (fixed point) touches:
-// its x over its part with 256 r <= y <= 256 r + 255, each end's x floor-divided from the
-// edge's own line; a horizontal edge its whole x range. Returns false when it misses the row or
-// the columns [0, width). The same integers on every backend (kernels/rasterize.cl mirrors it).
+// its x over its part with 256 r <= y <= 256 (r + 1) (closed: an edge through a row boundary
+// touches both rows), each end's x floor-divided from the edge's own line or, at a vertex, the
+// vertex's; a horizontal edge its whole x range. Returns false when it misses the row or the
+// columns [0, width). The same integers on every backend (kernels/rasterize.cl mirrors it).
 bool OutlineColumns(std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int64_t y1, int row,
                     int width, int* c_lo, int* c_hi);
 
