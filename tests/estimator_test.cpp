@@ -445,6 +445,47 @@ TEST_P(EstimatorTest, NothingFreeYetGivesAnEmptyPolygonWithItsStatus) {
   }
 }
 
+TEST_P(EstimatorTest, WithoutFreeOnOutlineTheCellsAlongAFaceGetNoFreeUpdate) {
+  // One scan of a slanted wall, x = 6 + 0.5 y (metres), 1 deg apart: its outline between the
+  // echoes crosses cells whose centres lie inside the scan's polygon. With the paper's rule they
+  // are updated free; with free_on_outline off they are not, and nothing else changes.
+  std::vector<double> angles, ranges;
+  for (int a = -45; a <= 45; ++a) {
+    angles.push_back(a);
+    const double t = a * M_PI / 180.0;
+    ranges.push_back(6.0 / (std::cos(t) - 0.5 * std::sin(t)));
+  }
+  std::vector<std::vector<LogOdds>> maps;
+  Vec2 sensor;
+  for (const bool paper : {true, false}) {
+    Config c = WallConfig();
+    c.map.width_cells = c.map.height_cells = 100;
+    c.sensor_model.free_on_outline = paper;
+    FREESPACE_ESTIMATOR_OR_SKIP(estimator, c);
+    const Result& r = estimator->Process(MakeScan(0.0, {0, 0, 0}, angles, ranges));
+    ASSERT_EQ(r.status, ScanStatus::kOk);
+    sensor = r.vehicle_cells;
+    const MapView map = estimator->map();
+    maps.emplace_back(map.log_odds, map.log_odds + 100 * 100);
+  }
+  int cleared = 0;
+  for (int row = 0; row < 100; ++row) {
+    for (int col = 0; col < 100; ++col) {
+      const LogOdds paper = maps[0][row * 100 + col], outline = maps[1][row * 100 + col];
+      if (paper == outline) continue;
+      // Only free updates go, and only next to the face: the cell's centre within a cell's
+      // diagonal of the wall's line.
+      EXPECT_LT(paper, 0) << row << "," << col;
+      EXPECT_EQ(outline, 0) << row << "," << col;
+      const double x = (col + 0.5 - sensor.x()) * 0.2, y = (row + 0.5 - sensor.y()) * 0.2;
+      EXPECT_LT(std::abs(x - 6.0 - 0.5 * y) / std::sqrt(1.25), 0.2 * std::sqrt(2.0))
+          << row << "," << col;
+      ++cleared;
+    }
+  }
+  EXPECT_GT(cleared, 5);  // the test can fail: the rule takes cells out
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, EstimatorTest, ::testing::ValuesIn(test::AllBackends()),
                          test::BackendParamName);
 
