@@ -9,10 +9,10 @@
 // occupied): one bit per cell, 32 cells a word, each row padded to whole words. With job[5]
 // set (sensor_model.free_on_outline off) the edges between beams also set the bits of the cells
 // they touch in a third plane, the outline, which the occupied buffer holds after its own plane
-// (HEIGHT rows on): those cells get no free update (host/rasterize.cpp, ClearOutline). The row pass
-// scans each row's toggles, writes the row of the (padded) update mask and clears both planes
-// for the next scan; bits make the prefix XOR a few word operations and let edges meet in any
-// order (XOR commutes). The row pass can also fuse the mask into the map (kernel stage 2,
+// (HEIGHT rows on): those cells get no free update (host/rasterize.cpp, ClearOutline). The row
+// pass scans each row's toggles, writes the row of the (padded) update mask and clears the
+// planes for the next scan; bits make the prefix XOR a few word operations and let edges meet
+// in any order (XOR commutes). The row pass can also fuse the mask into the map (kernel stage 2,
 // fuse.cl's arithmetic) and apply a pending map shift (shift.cl) on the way, so that a scan
 // reads and writes each row once; every map cell it writes also goes into the level bitsets
 // that stage 3 starts from (common.cl, StoreLevels), while the values are in registers.
@@ -258,7 +258,8 @@ void RasterShiftLevels(__global const uint* src, __global uint* dst, int r, int 
 }
 
 // Turns words [w0, w1) of row r into mask values; `fill` is all ones when the parity left of
-// word w0 is odd. Clears the words of both planes for the next scan, and fuses into the map.
+// word w0 is odd. Clears the words of the three planes for the next scan, and fuses into the
+// map.
 void RasterWords(__global uint* toggles, __global uint* occupied, __global uchar* update,
                  RasterMap map, int r, int w0, int w1, uint fill) {
   __global uint* row_toggles = toggles + r * RASTER_WORDS;
