@@ -144,6 +144,17 @@ TEST(Config, StringsWithQuotesAndControlCharactersRoundTrip) {
   EXPECT_EQ(back.ToYaml(), c.ToYaml());
 }
 
+TEST(Config, TheOutlineRuleNeedsTheFullScanPolygon) {
+  EXPECT_TRUE(Config().sensor_model.free_on_outline);  // the paper's rule by default
+  EXPECT_EQ(ErrorOf("sensor_model:\n  free_on_outline: false\n"), "");
+  const std::string conventional =
+      ErrorOf("sensor_model:\n  kind: conventional\n  free_on_outline: false\n");
+  EXPECT_NE(conventional.find("sensor_model.free_on_outline = false"), std::string::npos)
+      << conventional;
+  EXPECT_NE(conventional.find("sensor_model.kind enhanced"), std::string::npos) << conventional;
+  EXPECT_EQ(ErrorOf("sensor_model:\n  kind: conventional\n"), "");
+}
+
 TEST(Config, PolygonMarginIsValidatedAndKept) {
   const Config defaults;
   EXPECT_EQ(defaults.polygon.margin_cells, 0);  // the paper's polygon: no margin

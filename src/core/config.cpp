@@ -70,6 +70,12 @@ const Relation kRelations[] = {
      [](const Config& c) { return c.sensor_model.p_free > c.sensor_model.p_min; }, nullptr},
     {"sensor_model.p_occupied", "must be < sensor_model.p_max",
      [](const Config& c) { return c.sensor_model.p_occupied < c.sensor_model.p_max; }, nullptr},
+    {"sensor_model.free_on_outline",
+     "false needs sensor_model.kind enhanced (the conventional model draws no outline)",
+     [](const Config& c) {
+       return c.sensor_model.free_on_outline || c.sensor_model.kind == SensorModelKind::kEnhanced;
+     },
+     nullptr},
     {"alignment.margin_m",
      "must leave room for the vehicle: margin_m / map.resolution_m + 1 <= half the map's "
      "smaller side",
