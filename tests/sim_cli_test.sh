@@ -4,6 +4,7 @@
 # Usage: sim_cli_test.sh FREESPACE_BINARY OUT_DIR
 set -u
 bin=$1 out=$2
+src=$(cd "$(dirname "$0")/.." && pwd)
 rm -rf "$out" && mkdir -p "$out"
 fail() { echo "FAIL: $*"; exit 1; }
 
@@ -49,6 +50,13 @@ done
 grep -q "median ms per scan" "$out/demo.txt" || fail "demo prints no timings"
 grep -q "polygon coverage" "$out/demo.txt" || fail "demo prints no quality"
 head -c 4 "$out/demo/demo.avi" | grep -q RIFF || fail "demo.avi is not an AVI file"
+# Without --config the demo runs the road setup of configs/scala.yaml: its sensor model and
+# polygon fields as that file has them.
+for field in "free_on_outline: false" "shape: inside" "max_vertices: 128" "margin_cells: 1" \
+  "margin_cone_deg: 45"; do
+  grep -q "^  $field\$" "$out/demo/config.yaml" || fail "demo config lacks '$field'"
+  grep -q "^  $field\$" "$src/configs/scala.yaml" || fail "configs/scala.yaml lacks '$field'"
+done
 
 # Bad arguments.
 "$bin" demo --scenario moon --out "$out/x" >/dev/null 2>&1 && fail "unknown scenario accepted"

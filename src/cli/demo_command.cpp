@@ -47,7 +47,8 @@ struct DemoOptions {
 // Median of a series of microsecond timings, in milliseconds.
 double MedianMs(std::vector<double> v) { return Quantile(v, 0.5) / 1000.0; }
 
-// The engine config the demo runs without --config: the defaults with the polygon of
+// The engine config the demo runs without --config: the defaults with the sensor model's
+// outline rule (no free update where the scan's outline touches a cell) and the polygon of
 // configs/scala.yaml, the conservative shape with a one-cell margin in front of occupied cells
 // and unknown cells (45 degree cone), N = 128 and epsilon 0.12 m, which keeps the static
 // world's intrusion within the aims (docs/metrics.md); the paper's shape covers about half of
