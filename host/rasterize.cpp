@@ -72,8 +72,8 @@ void RasterizeRow(const std::int32_t* v, int n, int width, int row, std::uint8_t
 }  // namespace host
 
 // The cells of rows [r0, r1) the outline of job's ring touches, but for its two edges at the
-// sensor (vertex 0), are no longer free (RasterJob::clear_outline). Most edges between beams lie
-// within one row and need no division.
+// sensor (vertex 0), are no longer free (RasterJob::clear_outline). An edge inside one row
+// costs no division (OutlineColumns takes a vertex's own x).
 void HostBackend::ClearOutline(const RasterJob& job, int r0, int r1) {
   const int width = params_.width;
   const std::int32_t* v = job.vertices;
@@ -85,15 +85,7 @@ void HostBackend::ClearOutline(const RasterJob& job, int r0, int r1) {
     for (std::int64_t r = std::max<std::int64_t>(ra, r0); r <= std::min<std::int64_t>(rb, r1 - 1);
          ++r) {
       int lo = 0, hi = -1;
-      if (ra == rb) {  // inside row r, clear of its boundaries: the x range of its ends
-        const std::int64_t a = host::FloorDiv(std::min(x0, x1), kFixedOne);
-        const std::int64_t b = host::FloorDiv(std::max(x0, x1), kFixedOne);
-        if (b < 0 || a >= width) continue;
-        lo = int(std::max<std::int64_t>(a, 0));
-        hi = int(std::min<std::int64_t>(b, width - 1));
-      } else if (!OutlineColumns(x0, y0, x1, y1, int(r), width, &lo, &hi)) {
-        continue;
-      }
+      if (!OutlineColumns(x0, y0, x1, y1, int(r), width, &lo, &hi)) continue;
       std::uint8_t* row = update_.data() + std::size_t(r) * width;
       std::fill(row + lo, row + hi + 1, kUpdateNone);
     }

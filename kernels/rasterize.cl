@@ -137,22 +137,14 @@ bool RasterOutlineColumns(long x0, long y0, long x1, long y1, long r, int* c_lo,
 
 // Sets the outline bits of edge i (1 <= i <= n - 2: between two beams) on its rows within
 // [lo, hi): rows ra .. rb with 256 r <= max y and 256 (r + 1) >= min y (host/rasterize.cpp,
-// ClearOutline). An edge inside one row, clear of its boundaries, needs no division.
+// ClearOutline). An edge inside one row costs no division (RasterOutlineX takes a vertex's x).
 void RasterOutline(__global const int* v, int i, long lo, long hi, __global uint* outline) {
   const long x0 = v[2 * i], y0 = v[2 * i + 1], x1 = v[2 * i + 2], y1 = v[2 * i + 3];
   const long ra = RasterFloorDiv(min(y0, y1) + RASTER_FIXED_ONE - 1, RASTER_FIXED_ONE) - 1;
   const long rb = RasterFloorDiv(max(y0, y1), RASTER_FIXED_ONE);
   for (long r = max(ra, lo); r <= min(rb, hi - 1); ++r) {
     int c0, c1;
-    if (ra == rb) {
-      const long a = RasterFloorDiv(min(x0, x1), RASTER_FIXED_ONE);
-      const long b = RasterFloorDiv(max(x0, x1), RASTER_FIXED_ONE);
-      if (b < 0 || a >= WIDTH) continue;
-      c0 = (int)max(a, 0L);
-      c1 = (int)min(b, (long)WIDTH - 1);
-    } else if (!RasterOutlineColumns(x0, y0, x1, y1, r, &c0, &c1)) {
-      continue;
-    }
+    if (!RasterOutlineColumns(x0, y0, x1, y1, r, &c0, &c1)) continue;
     for (int w = c0 >> 5; w <= (c1 >> 5); ++w) {
       const int a = max(c0 - 32 * w, 0), b = min(c1 - 32 * w, 31);
       const uint bits = (0xffffffffu >> (31 - (b - a))) << a;
