@@ -43,15 +43,6 @@ KernelParams MakeKernelParams(const Config& config) {
   return p;
 }
 
-namespace {
-
-std::int64_t FloorDivide(std::int64_t a, std::int64_t b) {  // b > 0
-  const std::int64_t q = a / b;
-  return (a % b != 0 && a < 0) ? q - 1 : q;
-}
-
-}  // namespace
-
 bool OutlineColumns(std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int64_t y1, int row,
                     int width, int* c_lo, int* c_hi) {
   const std::int64_t top = std::int64_t(row) * kFixedOne, bottom = top + kFixedOne;
@@ -64,13 +55,13 @@ bool OutlineColumns(std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int6
     const auto x_at = [&](std::int64_t y) {
       if (y == y0) return x0;
       if (y == y1) return x1;
-      return x0 + FloorDivide(sign * (y - y0) * (x1 - x0), den);
+      return x0 + FloorDiv(sign * (y - y0) * (x1 - x0), den);
     };
     xa = x_at(std::max(std::min(y0, y1), top));
     xb = x_at(std::min(std::max(y0, y1), bottom));
   }
-  const std::int64_t lo = FloorDivide(std::min(xa, xb), kFixedOne);
-  const std::int64_t hi = FloorDivide(std::max(xa, xb), kFixedOne);
+  const std::int64_t lo = FloorDiv(std::min(xa, xb), kFixedOne);
+  const std::int64_t hi = FloorDiv(std::max(xa, xb), kFixedOne);
   if (hi < 0 || lo >= width) return false;
   *c_lo = int(std::max<std::int64_t>(lo, 0));
   *c_hi = int(std::min<std::int64_t>(hi, width - 1));

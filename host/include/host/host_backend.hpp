@@ -142,11 +142,7 @@ inline int RayMinorStep(std::uint64_t slope, int k) {
   return int((std::uint64_t(k) * slope + 0x80000000u) >> 32);
 }
 
-// floor(a / b) for b > 0.
-inline std::int64_t FloorDiv(std::int64_t a, std::int64_t b) {
-  const std::int64_t q = a / b;
-  return (a % b != 0 && a < 0) ? q - 1 : q;
-}
+using ::freespace::FloorDiv;  // core/backend.hpp
 
 }  // namespace host
 }  // namespace freespace

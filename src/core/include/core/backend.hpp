@@ -122,6 +122,12 @@ struct RasterJob {
   bool clear_outline = false;
 };
 
+// floor(a / b) for b > 0.
+inline std::int64_t FloorDiv(std::int64_t a, std::int64_t b) {
+  const std::int64_t q = a / b;
+  return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+
 // The columns [*c_lo, *c_hi] of row r that the edge (x0, y0) -> (x1, y1) (fixed point) touches:
 // its x over its part with 256 r <= y <= 256 (r + 1) (closed: an edge through a row boundary
 // touches both rows), each end's x floor-divided from the edge's own line or, at a vertex, the
