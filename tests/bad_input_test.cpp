@@ -64,6 +64,47 @@ TEST(BadInput, NativeSensorLayerCountMustBeAnInteger1To255) {
   }
 }
 
+// The SENSOR line's optional tenth number is the sensor's sweep: read, written back where it is
+// not 0, and refused outside -1 .. 1 s.
+TEST(BadInput, NativeSensorSweepIsReadWrittenAndChecked) {
+  const std::string with = TempFile("sweep.fslog",
+                                    "FREESPACE_LOG 1\nSENSOR 1 -90 90 1 0 80 0 0 0 "
+                                    "0.016\nSCAN 1 0 0 0 1 0 1.0 5.0\n");
+  EXPECT_DOUBLE_EQ(OpenLog(with)->sensor().sweep_s, 0.016);
+  EXPECT_DOUBLE_EQ(OpenLog(TempFile("nosweep.fslog", kNativeHeader))->sensor().sweep_s, 0.0);
+
+  SensorConfig sensor = OpenLog(with)->sensor();
+  const std::string written = ::testing::TempDir() + "/sweep_written.fslog";
+  {
+    NativeLogWriter writer(written, sensor);
+    writer.Close();
+  }
+  EXPECT_DOUBLE_EQ(OpenLog(written)->sensor().sweep_s, 0.016);
+  sensor.sweep_s = 0.0;
+  {
+    NativeLogWriter writer(written, sensor);
+    writer.Close();
+  }
+  std::ifstream in(written);
+  std::string line;
+  while (std::getline(in, line) && line.rfind("SENSOR", 0) != 0) {
+  }
+  EXPECT_EQ(line, "SENSOR 1 -90 90 1 0 80 0 0 0");  // as before the field existed
+
+  for (const char* bad : {"1.5", "-2", "nan", "x"}) {
+    const std::string path =
+        TempFile("badsweep.fslog",
+                 "FREESPACE_LOG 1\nSENSOR 1 -90 90 1 0 80 0 0 0 " + std::string(bad) + "\n");
+    try {
+      OpenLog(path);
+      ADD_FAILURE() << bad << ": expected InputError";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(":2: "), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("sweep_s"), std::string::npos) << e.what();
+    }
+  }
+}
+
 std::string RobotLaser(double t, int n) {
   std::string line = "ROBOTLASER1 0 -1.5 3 0.1 50 0.01 0 " + std::to_string(n);
   for (int i = 0; i < n; ++i) line += " 5.0";

@@ -28,6 +28,11 @@ struct SensorConfig {
   double mount_x_m = 0.0;                // sensor position in the vehicle (odometry) frame
   double mount_y_m = 0.0;
   double mount_yaw_deg = 0.0;  // sensor heading relative to the vehicle's
+  // The time the beam takes to cross the aperture from min_angle_deg to max_angle_deg within one
+  // scan (negative: from max to min), the scan's timestamp being the middle of the sweep. 0 (the
+  // paper): every point is placed as if taken at the timestamp. Otherwise each point is placed
+  // from where the sensor was when it was taken (docs/design.md); [-1, 1] s.
+  double sweep_s = 0.0;
 };
 
 // DBSCAN clutter filter (paper section II): clusters of fewer than min_cluster_size points

@@ -54,7 +54,7 @@ struct ScanStats {
 // the kernel stages on the OpenCL backend, which folds the map shift and the fusion into the
 // row pass of stage 1: see docs/opencl.md).
 struct StageTimes {
-  double preprocess_us = 0;  // validation, DBSCAN, virtual points, projection
+  double preprocess_us = 0;  // validation, DBSCAN, virtual points, the sweep, projection
   double align_us = 0;       // vehicle on a circle, including the map shift (host backend)
   double rasterize_us = 0;   // kernel stage 1
   double fuse_us = 0;        // kernel stage 2 (OpenCL: with stage 1's row pass and the shift)
@@ -77,6 +77,9 @@ struct Result {
   bool clock_stalled = false;     // the timestamps have stopped advancing (3 scans or more with
                                   // one time): used without a jump test or a speed sample
   bool stall_detected = false;    // this scan found the stall; `message` says so
+  bool sweep_corrected = false;   // sensor.sweep_s set and every scan of this call placed from
+                                  // the sensor's motion during its sweep (not the first scan
+                                  // of a map, nor one more than 0.5 s after its sensor's last)
 
   Pose2D pose;           // the vehicle pose given with the scan (a rig: the newest scan's)
   Pose2D sensor_pose;    // the sensor's world pose (pose composed with the mount); with a rig,

@@ -115,6 +115,9 @@ void BindScanAndResult(py::module_& m) {
                              [](const PyResult& p) { return ToString(p.r.reject_reason); })
       .def_property_readonly("message", [](const PyResult& p) { return p.r.message; })
       .def_property_readonly("map_reset", [](const PyResult& p) { return p.r.map_reset; })
+      .def_property_readonly(
+          "sweep_corrected", [](const PyResult& p) { return p.r.sweep_corrected; },
+          "every scan placed from the sensor's motion during its sweep (sensor.sweep_s)")
       .def_property_readonly("pose", [](const PyResult& p) { return PoseTuple(p.r.pose); })
       .def_property_readonly("sensor_pose",
                              [](const PyResult& p) { return PoseTuple(p.r.sensor_pose); })

@@ -52,6 +52,9 @@ class EstimatorTest(unittest.TestCase):
             self.assertEqual(r.scan_index, i)
             self.assertEqual(r.timestamp, scan.t)
             self.assertEqual(r.status, "ok")
+            # The simulated scanner sweeps (sensor.sweep_s): every scan after the first is
+            # placed from the sensor's motion.
+            self.assertEqual(r.sweep_corrected, i > 0)
             self.assertEqual(r.stats["points"], len(scan))
             self.assertGreater(r.stats["kept"], 0)
             self.assertGreaterEqual(r.times["total_us"], r.times["polygon_us"])

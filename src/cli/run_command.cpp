@@ -67,6 +67,7 @@ using Clock = std::chrono::steady_clock;
 struct RunTally {
   long scans_read = 0, processed = 0, no_update = 0, malformed = 0, resets = 0, jitter = 0;
   long stalled = 0;  // scans used while the clock stalled
+  long swept = 0;    // scans placed from the sensor's motion during its sweep (sensor.sweep_s)
   long invalid_range = 0, out_of_aperture = 0, bad_layer = 0, clutter = 0, virtual_points = 0;
   long points = 0, max_vertices = 0, vehicle_outside = 0;
   double vertex_sum = 0;
@@ -239,6 +240,7 @@ class LogRun {
         if (StopsHere("a stalled clock")) return Verdict::kStop;
       }
     }
+    if (r.sweep_corrected) ++tally_.swept;
     if (r.timestamp_jitter) {
       ++tally_.jitter;
       warnings_.Print("timestamp_jitter", at + ": " + r.message);
@@ -307,6 +309,7 @@ class LogRun {
         {"map_resets", t.resets},
         {"timestamp_jitter", t.jitter},
         {"clock_stalled", t.stalled},
+        {"sweep_corrected", t.swept},
         {"points",
          {{"total", t.points},
           {"invalid_range", t.invalid_range},

@@ -125,6 +125,10 @@ void VisitSensor(C& s, Visitor& v) {
   v("mount_y_m", s.mount_y_m, {"m", Open(-100, 100), "sensor y in the vehicle (odometry) frame"});
   v("mount_yaw_deg", s.mount_yaw_deg,
     {"deg", Closed(-360, 360), "sensor heading relative to the vehicle's"});
+  v("sweep_s", s.sweep_s,
+    {"s", Closed(-1, 1),
+     "time the beam takes from min_angle_deg to max_angle_deg (negative: the other way) within a "
+     "scan stamped at its middle; 0: every point at the timestamp (the paper)"});
 }
 
 template <class C, class Visitor>

@@ -145,6 +145,15 @@ bool Preprocessor::Run(const Scan& scan, ScanStats* stats) {
   return true;
 }
 
+void Preprocessor::Deskew(const SweepMotion& motion) {
+  if (sensor_.sweep_s == 0.0) return;
+  // A point at angle a is taken sweep_s ((a - min) / (max - min) - 1/2) after the timestamp.
+  const double min = sensor_.min_angle_deg * kDegToRad, max = sensor_.max_angle_deg * kDegToRad;
+  const double per_rad = sensor_.sweep_s / (max - min), mid = 0.5 * (min + max);
+  for (EchoPoint& e : kept_) SweepPoint(motion, per_rad * (e.angle - mid), &e.x, &e.y);
+  for (Beam& b : beams_) SweepPoint(motion, per_rad * (b.angle - mid), &b.x, &b.y);
+}
+
 void Preprocessor::Project(const Vec2& sensor_cells, double yaw, int width, int height,
                            RasterJob* job) {
   const double c = std::cos(yaw), s = std::sin(yaw), k = 1.0 / resolution_m_;

@@ -61,6 +61,25 @@ Estimator::Impl::Impl(const Config& config) : config_(Validated(config)), circle
 void Estimator::Impl::Reset() {
   circle_.Reset();
   backend_->Clear();
+  sweep_.Forget();
+  for (RigSensor& unit : rig_) unit.sweep.Forget();
+}
+
+// sensor.sweep_s: the scan's points placed from where its sensor was as each was taken, with
+// the motion since the sensor's last accepted scan (core/sweep.hpp); its time counts as
+// preprocessing. Call after Align(), so that a map reset forgets that scan. False when the
+// scan stays at one pose.
+bool Estimator::Impl::Sweep(Preprocessor* preprocess, SweepTracker* tracker,
+                            const SensorConfig& sensor, const Pose2D& sensor_pose, double t) {
+  if (sensor.sweep_s == 0.0) return false;
+  const Clock::time_point start = Clock::now();
+  if (result_.map_reset) tracker->Forget();
+  SweepMotion motion;
+  const bool moved = tracker->Motion(sensor_pose, t, config_.alignment.max_speed_mps, &motion);
+  if (moved) preprocess->Deskew(motion);
+  tracker->Remember(sensor_pose, t);
+  result_.times.preprocess_us += Micros(start, Clock::now());
+  return moved;
 }
 
 void Estimator::Impl::Begin(const Scan& scan) {
@@ -74,6 +93,7 @@ void Estimator::Impl::Begin(const Scan& scan) {
   r.timestamp_jitter = false;
   r.clock_stalled = false;
   r.stall_detected = false;
+  r.sweep_corrected = false;
   r.pose = scan.pose;
   r.times = StageTimes{};
   r.stats = ScanStats{};
@@ -260,6 +280,8 @@ const Result& Estimator::Impl::Process(const Scan& scan) {
   if (!Align(scan)) return finish();
   const Clock::time_point t_align = Clock::now();
   r.times.align_us = Micros(t_pre, t_align);
+  r.sweep_corrected =
+      Sweep(preprocess_.get(), &sweep_, config_.sensor, r.sensor_pose, scan.timestamp_s);
 
   UpdateMap(has_update, scan);
   return Conclude(t_begin);

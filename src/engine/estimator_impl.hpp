@@ -12,6 +12,7 @@
 #include "core/backend.hpp"
 #include "core/crew.hpp"
 #include "core/preprocess.hpp"
+#include "core/sweep.hpp"
 #include "engine/map_aligner.hpp"
 #include "freespace/estimator.hpp"
 #include "polygon_extractor.hpp"
@@ -52,6 +53,8 @@ class Estimator::Impl {
   // Classification, border rays and polygon, then the times; ends every accepted scan or cycle.
   const Result& Conclude(std::chrono::steady_clock::time_point t_begin);
   const Result& Reject(RejectReason reason, const char* text);
+  bool Sweep(Preprocessor* preprocess, SweepTracker* tracker, const SensorConfig& sensor,
+             const Pose2D& sensor_pose, double t);
 
   // A rig's cycle (rig_cycle.cpp): checks, each sensor's preprocessing (in parallel), then each
   // scan's update from its own sensor pose and the footprint.
@@ -60,6 +63,7 @@ class Estimator::Impl {
     std::unique_ptr<Preprocessor> preprocess;
     ScanStats stats;
     bool has_update = false;
+    SweepTracker sweep;  // sensor.sweep_s: this sensor's last accepted pose
   };
   void MakeRig();
   bool CheckCycle(const Scan* scans, int count);
@@ -79,6 +83,7 @@ class Estimator::Impl {
   Result result_;
   std::uint64_t scans_ = 0;
   Pose2D last_sensor_;                      // sensor pose of the last accepted scan
+  SweepTracker sweep_;                      // the same, for sensor.sweep_s
   std::vector<RigSensor> rig_;              // a rig's sensors (empty for a single sensor)
   std::vector<int> cycle_order_;            // the cycle's scans by sensor index
   std::vector<std::int32_t> cycle_echoes_;  // echo cells of every scan of the cycle

@@ -163,9 +163,14 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   const double res = config_.map.resolution_m;
   cycle_echoes_.clear();
   cycle_scanners_.clear();
+  bool all_swept = !cycle_order_.empty();
   for (std::size_t k = 0; k < cycle_order_.size(); ++k) {
-    RigSensor& unit = rig_[scans[cycle_order_[k]].sensor];
+    const Scan& scan = scans[cycle_order_[k]];
+    RigSensor& unit = rig_[scan.sensor];
     const Pose2D& sensor = r.cycle_sensor_poses[k];  // CheckCycleSpread's
+    all_swept =
+        Sweep(unit.preprocess.get(), &unit.sweep, unit.config.sensor, sensor, scan.timestamp_s) &&
+        all_swept;
     if (!unit.has_update) continue;
     double yaw = 0.0;
     const Vec2 cells = MapCells(sensor, r, res, &yaw);
@@ -177,6 +182,7 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
     const std::vector<std::int32_t>& echoes = unit.preprocess->echo_cells();
     cycle_echoes_.insert(cycle_echoes_.end(), echoes.begin(), echoes.end());
   }
+  r.sweep_corrected = all_swept;
   FuseFootprint();
   backend_->SetEchoes(cycle_echoes_.data(), int(cycle_echoes_.size()));
 }

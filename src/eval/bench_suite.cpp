@@ -314,6 +314,8 @@ nlohmann::json AlignmentError::ToJson() const {
 AlignmentComparison CompareAlignment(const Config& config, const std::vector<Scan>& scans,
                                      int warmup) {
   Config circle = config, rotate = config;
+  // The paper's alignments and its reference map place every point from the scan's one pose.
+  circle.sensor.sweep_s = rotate.sensor.sweep_s = 0.0;
   circle.alignment.kind = AlignmentKind::kCircle;
   rotate.alignment.kind = AlignmentKind::kRotate;
   RegisterBaselines();

@@ -143,6 +143,7 @@ SensorConfig ScannerConfig::EngineSensor() const {
   s.mount_x_m = mount_x_m;
   s.mount_y_m = mount_y_m;
   s.mount_yaw_deg = mount_yaw_deg;
+  s.sweep_s = sweep_s;  // beam 0 (min_angle_deg) first, as Scan() takes them
   return s;
 }
 

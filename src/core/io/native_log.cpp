@@ -3,7 +3,7 @@
 //
 //   FREESPACE_LOG 1
 //   SENSOR <layers> <min_angle_deg> <max_angle_deg> <resolution_deg> <min_range_m>
-//          <max_range_m> <mount_x_m> <mount_y_m> <mount_yaw_deg>          (one line)
+//          <max_range_m> <mount_x_m> <mount_y_m> <mount_yaw_deg> [<sweep_s>]  (one line)
 //   SCAN <t_s> <x_m> <y_m> <yaw_rad> <n> then n triples <layer> <angle_deg> <range_m | ->
 //
 // Version 2 holds a rig: one or more "SENSOR <name> <layers> ..." lines, an optional
@@ -132,13 +132,19 @@ class NativeReader final : public LogReader {
   // A SENSOR line: version 1 "SENSOR layers ...", version 2 "SENSOR name layers ...".
   void ReadSensor() {
     const std::size_t named = version_ == 2 ? 1 : 0;
-    double v[9];
-    bool ok = fields_.size() == 10 + named && fields_[0] == "SENSOR";
-    for (int i = 0; ok && i < 9; ++i) ok = ParseDouble(fields_[i + 1 + named], &v[i]);
+    // Nine numbers, and sweep_s as a tenth where the sensor sweeps (0 when left out).
+    double v[10] = {};
+    const int numbers = int(fields_.size()) - 1 - int(named);
+    bool ok = (numbers == 9 || numbers == 10) && fields_[0] == "SENSOR";
+    for (int i = 0; ok && i < numbers; ++i) ok = ParseDouble(fields_[i + 1 + named], &v[i]);
     if (!ok) {
       throw InputError(Where() + "expected 'SENSOR " + (named ? "name " : "") +
                        "layers min_angle_deg max_angle_deg resolution_deg min_range_m "
-                       "max_range_m mount_x_m mount_y_m mount_yaw_deg'");
+                       "max_range_m mount_x_m mount_y_m mount_yaw_deg [sweep_s]'");
+    }
+    if (!(std::abs(v[9]) <= 1.0)) {
+      throw InputError(Where() + "SENSOR sweep_s '" + Excerpt(fields_[10 + named]) +
+                       "' is not within -1 .. 1 s");
     }
     if (!(v[0] >= 1 && v[0] <= 255 && v[0] == std::floor(v[0]))) {
       throw InputError(Where() + "SENSOR layer count '" + Excerpt(fields_[1 + named]) +
@@ -158,6 +164,7 @@ class NativeReader final : public LogReader {
     s.mount_x_m = v[6];
     s.mount_y_m = v[7];
     s.mount_yaw_deg = v[8];
+    s.sweep_s = v[9];
     rig_.push_back(s);
   }
 
@@ -257,17 +264,27 @@ std::unique_ptr<LogReader> OpenNative(const std::string& path, const LogOptions&
 
 }  // namespace io
 
+namespace {
+// A SENSOR line's optional tenth number: the sweep, where the sensor has one.
+std::string SweepField(const SensorConfig& s) {
+  if (s.sweep_s == 0.0) return "";
+  char field[32];
+  std::snprintf(field, sizeof field, " %.9g", s.sweep_s);
+  return field;
+}
+}  // namespace
+
 NativeLogWriter::NativeLogWriter(const std::string& path, const SensorConfig& s)
     : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
   if (!out_) throw OutputError(path + ": cannot create");
   char line[512];
   std::snprintf(line, sizeof line,
                 "FREESPACE_LOG 1\n# SENSOR layers min_angle_deg max_angle_deg resolution_deg "
-                "min_range_m max_range_m mount_x_m mount_y_m mount_yaw_deg\n"
-                "SENSOR %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n"
+                "min_range_m max_range_m mount_x_m mount_y_m mount_yaw_deg [sweep_s]\n"
+                "SENSOR %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g%s\n"
                 "# SCAN t_s x_m y_m yaw_rad n (layer angle_deg range_m|-)*n\n",
                 s.layers, s.min_angle_deg, s.max_angle_deg, s.angular_resolution_deg, s.min_range_m,
-                s.max_range_m, s.mount_x_m, s.mount_y_m, s.mount_yaw_deg);
+                s.max_range_m, s.mount_x_m, s.mount_y_m, s.mount_yaw_deg, SweepField(s).c_str());
   out_ << line;
 }
 
@@ -284,13 +301,13 @@ NativeLogWriter::NativeLogWriter(const std::string& path, const std::vector<Sens
   version_ = 2;
   sensors_ = int(sensors.size());
   out_ << "FREESPACE_LOG 2\n# SENSOR name layers min_angle_deg max_angle_deg resolution_deg "
-          "min_range_m max_range_m mount_x_m mount_y_m mount_yaw_deg\n";
+          "min_range_m max_range_m mount_x_m mount_y_m mount_yaw_deg [sweep_s]\n";
   char line[512];
   for (const SensorConfig& s : sensors) {
-    std::snprintf(line, sizeof line, "SENSOR %s %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n",
+    std::snprintf(line, sizeof line, "SENSOR %s %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g%s\n",
                   s.name.c_str(), s.layers, s.min_angle_deg, s.max_angle_deg,
                   s.angular_resolution_deg, s.min_range_m, s.max_range_m, s.mount_x_m, s.mount_y_m,
-                  s.mount_yaw_deg);
+                  s.mount_yaw_deg, SweepField(s).c_str());
     out_ << line;
   }
   std::snprintf(line, sizeof line,

@@ -8,6 +8,7 @@
 
 #include "core/backend.hpp"
 #include "core/dbscan.hpp"
+#include "core/sweep.hpp"
 #include "freespace/config.hpp"
 #include "freespace/result.hpp"
 #include "freespace/scan.hpp"
@@ -32,6 +33,11 @@ class Preprocessor {
   // Fills the point counters of `stats`. Returns false when the scan has no kept echo, in
   // which case it makes no sensor update.
   bool Run(const Scan& scan, ScanStats* stats);
+
+  // sensor.sweep_s: moves the beams and kept echoes of the last Run() to where they lie in the
+  // sensor frame at the scan's timestamp, each taken at its angle's time in the sweep while
+  // the sensor moved by `motion`. Does nothing when sweep_s is 0.
+  void Deskew(const SweepMotion& motion);
 
   // The clutter filter's parallel passes on `crew` (Backend::HostCrew); nullptr: on TBB.
   void UseCrew(Crew* crew) { clutter_.UseCrew(crew); }
