@@ -143,6 +143,50 @@ void BM_Preprocess(benchmark::State& state) {
   state.counters["kept"] = double(stats.kept);
 }
 
+// The same from a preprocessor of the config with sensor.sweep_s 0 (argument 0) or 0.016 s, the
+// ScaLa's (1): then each point is moved by the sensor's motion during the sweep (13 m/s,
+// turning at 0.3 rad/s) before the projection.
+void BM_PreprocessSweep(benchmark::State& state) {
+  auto input = MakeStageInput(300);
+  if (!input) {
+    state.SkipWithError("recorded data not found (set FREESPACE_DATA_DIR)");
+    return;
+  }
+  Config config = input->config;
+  config.sensor.sweep_s = state.range(0) == 0 ? 0.0 : 0.016;
+  Preprocessor preprocess(config);
+  const SweepMotion motion{13.0, 0.0, 0.3};
+  ScanStats stats;
+  RasterJob job;
+  for (auto _ : state) {
+    preprocess.Run(input->scan, &stats);
+    preprocess.Deskew(motion);
+    preprocess.Project(Vec2(150.4, 150.6), 0.3, 300, 300, &job);
+  }
+  state.counters["points"] = double(stats.points);
+  state.counters["kept"] = double(stats.kept);
+}
+
+// Deskew() alone on that scan's 2093 kept echoes and 581 beams (each iteration moves them again).
+void BM_Deskew(benchmark::State& state) {
+  auto input = MakeStageInput(300);
+  if (!input) {
+    state.SkipWithError("recorded data not found (set FREESPACE_DATA_DIR)");
+    return;
+  }
+  Config config = input->config;
+  config.sensor.sweep_s = 0.016;
+  Preprocessor preprocess(config);
+  ScanStats stats;
+  preprocess.Run(input->scan, &stats);
+  const SweepMotion motion{13.0, 0.0, 0.3};
+  for (auto _ : state) {
+    preprocess.Deskew(motion);
+    benchmark::DoNotOptimize(preprocess.kept().data());
+  }
+  state.counters["points"] = double(preprocess.kept().size() + preprocess.beams().size());
+}
+
 void BM_Polygon(benchmark::State& state) {
   Stage s;
   if (!s.Ready(state)) return;
@@ -169,6 +213,8 @@ void Sizes(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_Preprocess)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PreprocessSweep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Deskew)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Rasterize)->Apply(Sizes);
 BENCHMARK(BM_RasterizeOutline)->Apply(Sizes);
 BENCHMARK(BM_Fuse)->Apply(Sizes);

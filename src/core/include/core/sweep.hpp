@@ -4,6 +4,8 @@
 // constant twist between the sensor's last accepted pose and this scan's (docs/design.md).
 #pragma once
 
+#include <cmath>
+
 #include "freespace/types.hpp"
 
 namespace freespace {
@@ -37,6 +39,28 @@ class SweepTracker {
 
 // Where a point taken `tau` seconds after the scan's timestamp lies in the sensor frame at the
 // timestamp: the sensor moved along the constant twist `m` for tau seconds meanwhile.
-void SweepPoint(const SweepMotion& m, double tau, float* x, float* y);
+// Inline: Deskew() calls it for every point of a scan.
+inline void SweepPoint(const SweepMotion& m, double tau, float* x, float* y) {
+  // The constant twist's pose after tau: turned by a = yaw_rate tau, moved by tau times the
+  // velocity turned through the arc, (S vx - C vy, C vx + S vy) with S = sin(a) / a and
+  // C = (1 - cos(a)) / a. Small turns by their series (|a| below 0.1 rad: exact to 1e-11).
+  const double a = m.yaw_rate * tau, a2 = a * a;
+  double c, s, sinc, versc;
+  if (std::abs(a) < 0.1) {
+    c = 1.0 - a2 * (0.5 - a2 * (1.0 / 24.0 - a2 * (1.0 / 720.0)));
+    sinc = 1.0 - a2 * (1.0 / 6.0 - a2 * (1.0 / 120.0 - a2 * (1.0 / 5040.0)));
+    s = a * sinc;
+    versc = a * (0.5 - a2 * (1.0 / 24.0 - a2 * (1.0 / 720.0)));
+  } else {
+    c = std::cos(a);
+    s = std::sin(a);
+    sinc = s / a;
+    versc = (1.0 - c) / a;
+  }
+  const double tx = tau * (sinc * m.vx - versc * m.vy), ty = tau * (versc * m.vx + sinc * m.vy);
+  const double px = *x, py = *y;
+  *x = float(c * px - s * py + tx);
+  *y = float(s * px + c * py + ty);
+}
 
 }  // namespace freespace
