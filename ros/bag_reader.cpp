@@ -74,6 +74,14 @@ std::vector<std::string> SplitTopics(const std::string& text) {
   return topics;
 }
 
+// The time from a LaserScan's first beam to its last (sensor.sweep_s), from time_increment;
+// 0 where that is not given, not finite or past a second.
+double LaserSweep(const sensor_msgs::LaserScan& s) {
+  const double sweep =
+      double(s.time_increment) * double(s.ranges.empty() ? 0 : s.ranges.size() - 1);
+  return std::isfinite(sweep) && std::abs(sweep) <= 1.0 ? sweep : 0.0;
+}
+
 class BagReader : public LogReader {
  public:
   BagReader(const std::string& path, const BagOptions& options)
@@ -147,7 +155,10 @@ bool BagReader::Next(Scan* scan) {
         Report(current_, "message at t = " + std::to_string(t) + " s skipped: not readable");
         continue;
       }
-      const double stamp = clouds_ ? cloud->header.stamp.toSec() : laser->header.stamp.toSec();
+      // A LaserScan is stamped at its first beam (REP 117 / sensor_msgs): the scan's time is the
+      // middle of its sweep, time_increment apart from beam to beam.
+      const double stamp = clouds_ ? cloud->header.stamp.toSec()
+                                   : laser->header.stamp.toSec() + 0.5 * LaserSweep(*laser);
       std::string why;
       if (!poses_.At(stamp, options_.max_pose_gap_s, &scan->pose, &why)) {
         Report(current_, "scan at t = " + std::to_string(stamp) + " s skipped: " + why);
@@ -336,6 +347,7 @@ SensorConfig BagReader::LaserSensor(const rosbag::MessageInstance& first) const 
       (double(s.angle_min) + double(s.ranges.size() - 1) * double(s.angle_increment)) * kDeg;
   sensor.min_range_m = std::max(0.0, double(s.range_min));
   sensor.max_range_m = double(s.range_max);
+  sensor.sweep_s = LaserSweep(s);
   return sensor;
 }
 

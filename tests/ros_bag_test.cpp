@@ -159,6 +159,40 @@ TEST(RosBag, LaserScanWithOdometryAndStaticMount) {
   EXPECT_EQ(r.stats.invalid_range, 2);
 }
 
+// A LaserScan with time_increment: the sensor sweeps (sensor.sweep_s from the first message),
+// and each scan is stamped at the middle of its sweep, header.stamp being its first beam's time,
+// with the pose interpolated there.
+TEST(RosBag, LaserScanTimeIncrementIsTheSweep) {
+  const std::string path = TempBag("sweep.bag");
+  {
+    rosbag::Bag bag(path, rosbag::bagmode::Write);
+    WriteStaticMount(&bag, 1.5, 0.2, 0.1);
+    for (int i = 0; i <= 10; ++i) {
+      const double t = 0.1 * i;
+      bag.write("/odom", BagTime(t), MakeOdometry(t, 2 * t, 0.0, 0.1 * t));
+    }
+    for (int i = 0; i < 5; ++i) {
+      sensor_msgs::LaserScan scan = MakeLaserScan(0.05 + 0.1 * i, std::vector<float>(181, 10.0f));
+      scan.time_increment = 1e-4f;  // 18 ms from the first beam to the last
+      bag.write("/scan", BagTime(0.05 + 0.1 * i), scan);
+    }
+  }
+  auto reader = ros_bag::OpenRosBag(path);
+  EXPECT_NEAR(reader->sensor().sweep_s, 180 * 1e-4, 1e-9);
+  Scan scan;
+  int n = 0;
+  while (reader->Next(&scan)) {
+    const double t = 0.05 + 0.1 * n + 0.5 * 180 * 1e-4;
+    EXPECT_NEAR(scan.timestamp_s, t, 1e-6);
+    EXPECT_NEAR(scan.pose.x, 2 * t, 1e-6);
+    ++n;
+  }
+  EXPECT_EQ(n, 5);
+  // Without time_increment (WriteDrive's scans) nothing sweeps: ExpectDriveScans checks the
+  // stamps, and the sensor says 0.
+  EXPECT_EQ(ros_bag::OpenRosBag(WriteDrive("nosweep.bag", true))->sensor().sweep_s, 0.0);
+}
+
 TEST(RosBag, PosesFromTfWithoutOdometry) {
   auto reader = ros_bag::OpenRosBag(WriteDrive("tf.bag", false));
   ExpectDriveScans(*reader);
