@@ -69,15 +69,21 @@ void Estimator::Impl::Reset() {
 // the motion since the sensor's last accepted scan (core/sweep.hpp); its time counts as
 // preprocessing. Call after Align(), so that a map reset forgets that scan. False when the
 // scan stays at one pose.
+bool Estimator::Impl::SweepMotionOf(SweepTracker* tracker, const SensorConfig& sensor,
+                                    const Pose2D& sensor_pose, double t, SweepMotion* motion) {
+  if (sensor.sweep_s == 0.0) return false;
+  if (result_.map_reset) tracker->Forget();
+  const bool moved = tracker->Motion(sensor_pose, t, config_.alignment.max_speed_mps, motion);
+  tracker->Remember(sensor_pose, t);
+  return moved;
+}
+
 bool Estimator::Impl::Sweep(Preprocessor* preprocess, SweepTracker* tracker,
                             const SensorConfig& sensor, const Pose2D& sensor_pose, double t) {
-  if (sensor.sweep_s == 0.0) return false;
   const Clock::time_point start = Clock::now();
-  if (result_.map_reset) tracker->Forget();
   SweepMotion motion;
-  const bool moved = tracker->Motion(sensor_pose, t, config_.alignment.max_speed_mps, &motion);
+  const bool moved = SweepMotionOf(tracker, sensor, sensor_pose, t, &motion);
   if (moved) preprocess->Deskew(motion);
-  tracker->Remember(sensor_pose, t);
   result_.times.preprocess_us += Micros(start, Clock::now());
   return moved;
 }

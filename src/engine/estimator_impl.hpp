@@ -53,6 +53,11 @@ class Estimator::Impl {
   // Classification, border rays and polygon, then the times; ends every accepted scan or cycle.
   const Result& Conclude(std::chrono::steady_clock::time_point t_begin);
   const Result& Reject(RejectReason reason, const char* text);
+  // sensor.sweep_s: the sensor's motion during this scan from its tracker (forgotten on a map
+  // reset), and the tracker told this scan's pose; false when there is no motion to correct.
+  bool SweepMotionOf(SweepTracker* tracker, const SensorConfig& sensor, const Pose2D& sensor_pose,
+                     double t, SweepMotion* motion);
+  // The same, and the preprocessed scan deskewed with it (its time in preprocess_us).
   bool Sweep(Preprocessor* preprocess, SweepTracker* tracker, const SensorConfig& sensor,
              const Pose2D& sensor_pose, double t);
 
@@ -64,6 +69,10 @@ class Estimator::Impl {
     ScanStats stats;
     bool has_update = false;
     SweepTracker sweep;  // sensor.sweep_s: this sensor's last accepted pose
+    // This cycle's motion during the sweep (when `swept`) and projection into the map.
+    SweepMotion motion;
+    bool swept = false;
+    ScanProjection projection;
   };
   void MakeRig();
   bool CheckCycle(const Scan* scans, int count);

@@ -155,34 +155,54 @@ bool Estimator::Impl::PreprocessCycle(const Scan* scans) {
   return any;
 }
 
-// Each scan's update (sensor model and fusion) from its own sensor's pose in the aligned map,
-// in the rig's order; then the footprint; the veto layer holds every scan's echoes, and the
-// polygon mask's margin follows the lines of sight of the scanners that updated the map.
+// Each scan's update from its own sensor's pose in the aligned map: every sensor's motion
+// during its sweep (one after the other: the trackers follow the map's resets), then each scan
+// deskewed and projected, the sensors in parallel (host work on each sensor's own buffers, its
+// time in rasterize_us), then the sensor model's kernels and the fusion in the rig's order; then
+// the footprint. The veto layer holds every scan's echoes, and the polygon mask's margin follows
+// the lines of sight of the scanners that updated the map.
 void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   Result& r = result_;
-  const double res = config_.map.resolution_m;
-  cycle_echoes_.clear();
-  cycle_scanners_.clear();
-  bool all_swept = !cycle_order_.empty();
-  for (std::size_t k = 0; k < cycle_order_.size(); ++k) {
+  const int n = int(cycle_order_.size());
+  bool all_swept = n > 0;
+  for (int k = 0; k < n; ++k) {
     const Scan& scan = scans[cycle_order_[k]];
     RigSensor& unit = rig_[scan.sensor];
-    const Pose2D& sensor = r.cycle_sensor_poses[k];  // CheckCycleSpread's
-    all_swept =
-        Sweep(unit.preprocess.get(), &unit.sweep, unit.config.sensor, sensor, scan.timestamp_s) &&
-        all_swept;
+    unit.swept = SweepMotionOf(&unit.sweep, unit.config.sensor, r.cycle_sensor_poses[k],
+                               scan.timestamp_s, &unit.motion);
+    all_swept = all_swept && unit.swept;
+  }
+  r.sweep_corrected = all_swept;
+
+  const Clock::time_point start = Clock::now();
+  const double res = config_.map.resolution_m;
+  const int width = config_.map.width_cells, height = config_.map.height_cells;
+  const auto project = [&](int k) {
+    RigSensor& unit = rig_[scans[cycle_order_[k]].sensor];
+    if (unit.swept) unit.preprocess->Deskew(unit.motion);
+    if (!unit.has_update) return;
+    double yaw = 0.0;
+    const Vec2 cells = MapCells(r.cycle_sensor_poses[k], r, res, &yaw);  // CheckCycleSpread's
+    sensor_model_->Project(unit.preprocess.get(), cells, yaw, width, height, &unit.projection);
+  };
+  if (n == 1) {
+    project(0);
+  } else {
+    tbb::parallel_for(0, n, project);
+  }
+  r.times.rasterize_us += Micros(start, Clock::now());
+
+  cycle_echoes_.clear();
+  cycle_scanners_.clear();
+  for (int k = 0; k < n; ++k) {
+    RigSensor& unit = rig_[scans[cycle_order_[k]].sensor];
     if (!unit.has_update) continue;
     double yaw = 0.0;
-    const Vec2 cells = MapCells(sensor, r, res, &yaw);
-    cycle_scanners_.push_back(cells);
-    StageTimes times;
-    sensor_model_->Update(unit.preprocess.get(), cells, yaw, backend_.get(), &times);
-    r.times.rasterize_us += times.rasterize_us;
-    r.times.fuse_us += times.fuse_us;
+    cycle_scanners_.push_back(MapCells(r.cycle_sensor_poses[k], r, res, &yaw));
+    sensor_model_->Apply(unit.projection, backend_.get(), &r.times);
     const std::vector<std::int32_t>& echoes = unit.preprocess->echo_cells();
     cycle_echoes_.insert(cycle_echoes_.end(), echoes.begin(), echoes.end());
   }
-  r.sweep_corrected = all_swept;
   FuseFootprint();
   backend_->SetEchoes(cycle_echoes_.data(), int(cycle_echoes_.size()));
 }

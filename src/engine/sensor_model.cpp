@@ -16,35 +16,50 @@ double Micros(Clock::time_point a, Clock::time_point b) {
 
 class EnhancedModel final : public SensorModel {
  public:
-  void Update(Preprocessor* preprocess, const Vec2& sensor, double yaw, Backend* backend,
-              StageTimes* times) override {
+  void Project(Preprocessor* preprocess, const Vec2& sensor, double yaw, int width, int height,
+               ScanProjection* out) const override {
+    out->raster = RasterJob{};
+    preprocess->Project(sensor, yaw, width, height, &out->raster);
+  }
+
+  void Apply(const ScanProjection& scan, Backend* backend, StageTimes* times) const override {
     const Clock::time_point start = Clock::now();
-    RasterJob job;
-    preprocess->Project(sensor, yaw, backend->params().width, backend->params().height, &job);
-    backend->Rasterize(job);
+    backend->Rasterize(scan.raster);
     const Clock::time_point rastered = Clock::now();
-    backend->Fuse(job.row_begin, job.row_end);
-    times->rasterize_us = Micros(start, rastered);
-    times->fuse_us = Micros(rastered, Clock::now());
+    backend->Fuse(scan.raster.row_begin, scan.raster.row_end);
+    times->rasterize_us += Micros(start, rastered);
+    times->fuse_us += Micros(rastered, Clock::now());
   }
 };
 
 class ConventionalModel final : public SensorModel {
  public:
-  void Update(Preprocessor* preprocess, const Vec2& sensor, double yaw, Backend* backend,
-              StageTimes* times) override {
+  void Project(Preprocessor* preprocess, const Vec2& sensor, double yaw, int width, int height,
+               ScanProjection* out) const override {
+    out->rays = RayJob{};
+    preprocess->ProjectRays(sensor, yaw, width, height, &out->rays);
+  }
+
+  void Apply(const ScanProjection& scan, Backend* backend, StageTimes* times) const override {
     const Clock::time_point start = Clock::now();
-    RayJob job;
-    preprocess->ProjectRays(sensor, yaw, backend->params().width, backend->params().height, &job);
-    backend->CastRays(job);
+    backend->CastRays(scan.rays);
     const Clock::time_point cast = Clock::now();
-    backend->FuseRays(job.row_begin, job.row_end);
-    times->rasterize_us = Micros(start, cast);
-    times->fuse_us = Micros(cast, Clock::now());
+    backend->FuseRays(scan.rays.row_begin, scan.rays.row_end);
+    times->rasterize_us += Micros(start, cast);
+    times->fuse_us += Micros(cast, Clock::now());
   }
 };
 
 }  // namespace
+
+void SensorModel::Update(Preprocessor* preprocess, const Vec2& sensor, double yaw, Backend* backend,
+                         StageTimes* times) const {
+  const Clock::time_point start = Clock::now();
+  ScanProjection scan;
+  Project(preprocess, sensor, yaw, backend->params().width, backend->params().height, &scan);
+  times->rasterize_us += Micros(start, Clock::now());
+  Apply(scan, backend, times);
+}
 
 std::unique_ptr<SensorModel> MakeSensorModel(const Config& config) {
   if (config.sensor_model.kind == SensorModelKind::kConventional) {

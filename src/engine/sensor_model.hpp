@@ -12,14 +12,30 @@
 
 namespace freespace {
 
+// One scan's projection into the map: what the model's kernels read, pointing into the
+// preprocessor's buffers (valid until that preprocessor runs or projects again).
+struct ScanProjection {
+  RasterJob raster;  // the enhanced model's
+  RayJob rays;       // the conventional model's
+};
+
 class SensorModel {
  public:
   virtual ~SensorModel() = default;
 
-  // Writes the scan that `preprocess` holds into the map of `backend`, the sensor at `sensor`
-  // (map cells) heading `yaw` (radians, map frame); sets times->rasterize_us and fuse_us.
-  virtual void Update(Preprocessor* preprocess, const Vec2& sensor, double yaw, Backend* backend,
-                      StageTimes* times) = 0;
+  // Projects the scan that `preprocess` holds into a map of width x height cells, the sensor at
+  // `sensor` (map cells) heading `yaw` (radians, map frame). Host only and touches nothing but
+  // `preprocess` and `out`: several sensors' scans may be projected at once.
+  virtual void Project(Preprocessor* preprocess, const Vec2& sensor, double yaw, int width,
+                       int height, ScanProjection* out) const = 0;
+
+  // Writes a projected scan into the map of `backend` (rasterization and fusion); adds to
+  // times->rasterize_us and fuse_us.
+  virtual void Apply(const ScanProjection& scan, Backend* backend, StageTimes* times) const = 0;
+
+  // Project() then Apply(), the projection's time counted in times->rasterize_us.
+  void Update(Preprocessor* preprocess, const Vec2& sensor, double yaw, Backend* backend,
+              StageTimes* times) const;
 };
 
 std::unique_ptr<SensorModel> MakeSensorModel(const Config& config);
