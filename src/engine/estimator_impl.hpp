@@ -2,6 +2,8 @@
 // DESIGN.md's pipeline, each behind the interface chosen once from the config.
 #pragma once
 
+#include <tbb/task_arena.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -91,13 +93,14 @@ class Estimator::Impl {
   std::unique_ptr<PolygonExtractor> polygon_;
   Result result_;
   std::uint64_t scans_ = 0;
-  Pose2D last_sensor_;                      // sensor pose of the last accepted scan
-  SweepTracker sweep_;                      // the same, for sensor.sweep_s
-  std::vector<RigSensor> rig_;              // a rig's sensors (empty for a single sensor)
-  std::vector<int> cycle_order_;            // the cycle's scans by sensor index
-  std::vector<std::int32_t> cycle_echoes_;  // echo cells of every scan of the cycle
-  std::vector<Vec2> cycle_scanners_;        // map cells of the cycle's scanners with an update
-  std::int32_t footprint_[8] = {};          // the footprint's corners, fixed point
+  Pose2D last_sensor_;                          // sensor pose of the last accepted scan
+  SweepTracker sweep_;                          // the same, for sensor.sweep_s
+  std::vector<RigSensor> rig_;                  // a rig's sensors (empty for a single sensor)
+  std::unique_ptr<tbb::task_arena> rig_arena_;  // their parallel work, backend.threads wide
+  std::vector<int> cycle_order_;                // the cycle's scans by sensor index
+  std::vector<std::int32_t> cycle_echoes_;      // echo cells of every scan of the cycle
+  std::vector<Vec2> cycle_scanners_;            // map cells of the cycle's scanners with an update
+  std::int32_t footprint_[8] = {};              // the footprint's corners, fixed point
   mutable std::vector<LogOdds> map_mirror_;
   mutable std::vector<std::uint8_t> free_mirror_;
 };

@@ -46,6 +46,9 @@ Vec2 MapCells(const Pose2D& p, const Result& r, double resolution, double* yaw) 
 }  // namespace
 
 void Estimator::Impl::MakeRig() {
+  const int threads = config_.backend.threads;
+  const int concurrency = threads > 0 ? threads : tbb::task_arena::automatic;
+  rig_arena_ = std::make_unique<tbb::task_arena>(concurrency);
   rig_.resize(config_.sensors.size());
   for (std::size_t i = 0; i < rig_.size(); ++i) {
     rig_[i].config = config_;
@@ -131,8 +134,8 @@ bool Estimator::Impl::CheckCycleSpread(const Scan* scans, int newest) {
   return true;
 }
 
-// Each scan through its sensor's preprocessor, the sensors in parallel. False when no scan has
-// a kept echo.
+// Each scan through its sensor's preprocessor, the sensors in parallel (on at most
+// backend.threads threads). False when no scan has a kept echo.
 bool Estimator::Impl::PreprocessCycle(const Scan* scans) {
   const int n = int(cycle_order_.size());
   const auto run = [&](int k) {
@@ -144,7 +147,7 @@ bool Estimator::Impl::PreprocessCycle(const Scan* scans) {
   if (n == 1) {
     run(0);
   } else {
-    tbb::parallel_for(0, n, run);
+    rig_arena_->execute([&] { tbb::parallel_for(0, n, run); });
   }
   bool any = false;
   for (int k = 0; k < n; ++k) {
@@ -188,7 +191,7 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   if (n == 1) {
     project(0);
   } else {
-    tbb::parallel_for(0, n, project);
+    rig_arena_->execute([&] { tbb::parallel_for(0, n, project); });
   }
   r.times.rasterize_us += Micros(start, Clock::now());
 
