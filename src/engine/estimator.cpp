@@ -65,10 +65,8 @@ void Estimator::Impl::Reset() {
   for (RigSensor& unit : rig_) unit.sweep.Forget();
 }
 
-// sensor.sweep_s: the scan's points placed from where its sensor was as each was taken, with
-// the motion since the sensor's last accepted scan (core/sweep.hpp); its time counts as
-// preprocessing. Call after Align(), so that a map reset forgets that scan. False when the
-// scan stays at one pose.
+// sensor.sweep_s: the sensor's motion since its last accepted scan (core/sweep.hpp). Call after
+// Align(), so that a map reset forgets that scan. False when the scan stays at one pose.
 bool Estimator::Impl::SweepMotionOf(SweepTracker* tracker, const SensorConfig& sensor,
                                     const Pose2D& sensor_pose, double t, SweepMotion* motion) {
   if (sensor.sweep_s == 0.0) return false;
@@ -78,6 +76,8 @@ bool Estimator::Impl::SweepMotionOf(SweepTracker* tracker, const SensorConfig& s
   return moved;
 }
 
+// The scan's points placed from where its sensor was as each was taken, with that motion; its
+// time counts as preprocessing.
 bool Estimator::Impl::Sweep(Preprocessor* preprocess, SweepTracker* tracker,
                             const SensorConfig& sensor, const Pose2D& sensor_pose, double t) {
   const Clock::time_point start = Clock::now();
