@@ -77,6 +77,15 @@ class Estimator::Impl {
     ScanProjection projection;
   };
   void MakeRig();
+  // Runs `work` (a parallel loop over the rig's sensors) on at most backend.threads threads.
+  template <typename Work>
+  void InRigArena(const Work& work) {
+    if (rig_arena_) {
+      rig_arena_->execute(work);
+    } else {
+      work();
+    }
+  }
   bool CheckCycle(const Scan* scans, int count);
   bool CheckCycleSpread(const Scan* scans, int newest);
   bool PreprocessCycle(const Scan* scans);
@@ -96,7 +105,7 @@ class Estimator::Impl {
   Pose2D last_sensor_;                          // sensor pose of the last accepted scan
   SweepTracker sweep_;                          // the same, for sensor.sweep_s
   std::vector<RigSensor> rig_;                  // a rig's sensors (empty for a single sensor)
-  std::unique_ptr<tbb::task_arena> rig_arena_;  // their parallel work, backend.threads wide
+  std::unique_ptr<tbb::task_arena> rig_arena_;  // their parallel work when backend.threads > 0
   std::vector<int> cycle_order_;                // the cycle's scans by sensor index
   std::vector<std::int32_t> cycle_echoes_;      // echo cells of every scan of the cycle
   std::vector<Vec2> cycle_scanners_;            // map cells of the cycle's scanners with an update
