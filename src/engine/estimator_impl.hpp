@@ -71,9 +71,11 @@ class Estimator::Impl {
     ScanStats stats;
     bool has_update = false;
     SweepTracker sweep;  // sensor.sweep_s: this sensor's last accepted pose
-    // This cycle's motion during the sweep (when `swept`) and projection into the map.
+    // This cycle's motion during the sweep (when `swept`), the sensor's map cells and the
+    // scan's projection into the map.
     SweepMotion motion;
     bool swept = false;
+    Vec2 cells;
     ScanProjection projection;
   };
   void MakeRig();

@@ -187,8 +187,8 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
     if (unit.swept) unit.preprocess->Deskew(unit.motion);
     if (!unit.has_update) return;
     double yaw = 0.0;
-    const Vec2 cells = MapCells(r.cycle_sensor_poses[k], r, res, &yaw);  // CheckCycleSpread's
-    sensor_model_->Project(unit.preprocess.get(), cells, yaw, width, height, &unit.projection);
+    unit.cells = MapCells(r.cycle_sensor_poses[k], r, res, &yaw);  // CheckCycleSpread's pose
+    sensor_model_->Project(unit.preprocess.get(), unit.cells, yaw, width, height, &unit.projection);
   };
   if (n == 1) {
     project(0);
@@ -202,8 +202,7 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   for (int k = 0; k < n; ++k) {
     RigSensor& unit = rig_[scans[cycle_order_[k]].sensor];
     if (!unit.has_update) continue;
-    double yaw = 0.0;
-    cycle_scanners_.push_back(MapCells(r.cycle_sensor_poses[k], r, res, &yaw));
+    cycle_scanners_.push_back(unit.cells);
     sensor_model_->Apply(unit.projection, backend_.get(), &r.times);
     const std::vector<std::int32_t>& echoes = unit.preprocess->echo_cells();
     cycle_echoes_.insert(cycle_echoes_.end(), echoes.begin(), echoes.end());
