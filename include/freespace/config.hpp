@@ -116,6 +116,11 @@ struct PolygonConfig {
   // stays free. 0 .. 32 cells, needs shape inside; cone (0, 180] degrees.
   int margin_cells = 0;
   double margin_cone_deg = 180.0;
+  // The face layer of the inside polygon (not in the paper; 0 = none): a cell within
+  // face_tolerance_m of one of this scan's faces (its outline where it runs along a surface) is
+  // kept out of the polygon, and a cell this scan's outline touches is no margin source: where
+  // the scan sees the face, the face, not its cell, decides. 0 .. 1 m, needs shape inside.
+  double face_tolerance_m = 0.0;
 };
 
 // The vehicle around a rig of several sensors (Config::sensors). With one `sensor` the

@@ -93,6 +93,11 @@ const Relation kRelations[] = {
        return c.polygon.margin_cells == 0 || c.polygon.shape == PolygonShape::kInside;
      },
      nullptr},
+    {"polygon.face_tolerance_m", "needs polygon.shape inside (0 with the paper's polygon)",
+     [](const Config& c) {
+       return c.polygon.face_tolerance_m == 0 || c.polygon.shape == PolygonShape::kInside;
+     },
+     nullptr},
 };
 
 class YamlWriter {

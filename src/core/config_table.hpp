@@ -198,6 +198,9 @@ void VisitPolygon(C& p, Visitor& v) {
      "safety margin in front of occupied and unknown cells (not in the paper; 0 = none)"});
   v("margin_cone_deg", p.margin_cone_deg,
     {"deg", OpenClosed(0, 180), "the margin's cone around the line of sight (180: all around)"});
+  v("face_tolerance_m", p.face_tolerance_m,
+    {"m", Closed(0, 1),
+     "the polygon keeps out cells this near a face this scan sees (not in the paper; 0 = none)"});
 }
 
 template <class C, class Visitor>

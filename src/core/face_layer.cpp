@@ -1,0 +1,120 @@
+// The face layer: each face cut into pieces of at most one cell, every cell around a piece
+// tested by its exact distance to the piece (cell units, the cell at (c, r) the unit square
+// [c, c + 1] x [r, r + 1]).
+#include "core/face_layer.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/exact_ray.hpp"
+#include "core/preprocess.hpp"
+
+namespace freespace {
+namespace {
+
+struct P {
+  double x, y;
+};
+
+double Dist2PointSegment(P c, P a, P b) {
+  const double dx = b.x - a.x, dy = b.y - a.y, l2 = dx * dx + dy * dy;
+  const double t = l2 > 0 ? std::clamp(((c.x - a.x) * dx + (c.y - a.y) * dy) / l2, 0.0, 1.0) : 0.0;
+  const double ex = a.x + t * dx - c.x, ey = a.y + t * dy - c.y;
+  return ex * ex + ey * ey;
+}
+
+double Dist2PointCell(P p, int col, int row) {
+  const double dx = std::max({col - p.x, 0.0, p.x - (col + 1)});
+  const double dy = std::max({row - p.y, 0.0, p.y - (row + 1)});
+  return dx * dx + dy * dy;
+}
+
+// Whether the segment a-b meets the closed cell square (Liang-Barsky clipping).
+bool SegmentMeetsCell(P a, P b, int col, int row) {
+  double t0 = 0, t1 = 1;
+  const double d[2] = {b.x - a.x, b.y - a.y};
+  const double lo[2] = {col - a.x, row - a.y}, hi[2] = {col + 1 - a.x, row + 1 - a.y};
+  for (int k = 0; k < 2; ++k) {
+    if (d[k] == 0) {
+      if (lo[k] > 0 || hi[k] < 0) return false;
+      continue;
+    }
+    const double u = lo[k] / d[k], v = hi[k] / d[k];
+    t0 = std::max(t0, std::min(u, v));
+    t1 = std::min(t1, std::max(u, v));
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+// The squared distance between the segment a-b and the cell square: 0 when they meet, else the
+// nearest of an end to the square and a corner to the segment.
+double Dist2SegmentCell(P a, P b, int col, int row) {
+  if (SegmentMeetsCell(a, b, col, row)) return 0.0;
+  double d = std::min(Dist2PointCell(a, col, row), Dist2PointCell(b, col, row));
+  for (const P c : {P{double(col), double(row)}, P{col + 1.0, double(row)},
+                    P{double(col), row + 1.0}, P{col + 1.0, row + 1.0}}) {
+    d = std::min(d, Dist2PointSegment(c, a, b));
+  }
+  return d;
+}
+
+// The cells within t of the segment a-b (a == b: of a point), into near; those it touches, into
+// seen.
+void AddPiece(P a, P b, double t, int width, int height, std::vector<std::int32_t>* near,
+              std::vector<std::int32_t>* seen) {
+  const int c0 = std::max(0, int(std::floor(std::min(a.x, b.x) - t)));
+  const int c1 = std::min(width - 1, int(std::floor(std::max(a.x, b.x) + t)));
+  const int r0 = std::max(0, int(std::floor(std::min(a.y, b.y) - t)));
+  const int r1 = std::min(height - 1, int(std::floor(std::max(a.y, b.y) + t)));
+  for (int r = r0; r <= r1; ++r) {
+    for (int c = c0; c <= c1; ++c) {
+      const double d2 = Dist2SegmentCell(a, b, c, r);
+      if (d2 <= t * t) near->push_back(r * width + c);
+      if (d2 == 0) seen->push_back(r * width + c);
+    }
+  }
+}
+
+}  // namespace
+
+FaceRule FaceRule::Of(const Config& config) {
+  FaceRule rule;
+  if (config.polygon.shape == PolygonShape::kInside)
+    rule.tolerance_m = config.polygon.face_tolerance_m;
+  rule.join_m = config.clutter.eps_m;
+  rule.join_per_m = config.clutter.eps_per_m;
+  rule.resolution_m = config.map.resolution_m;
+  return rule;
+}
+
+void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam>& beams,
+               const FaceRule& rule, int width, int height, std::vector<std::int32_t>* near,
+               std::vector<std::int32_t>* seen) {
+  const double t = rule.tolerance_m / rule.resolution_m;
+  const auto at = [&](std::size_t i) {  // beam i's point, in cells
+    return P{double(vertices[2 * i + 2]) / kFixedOne, double(vertices[2 * i + 3]) / kFixedOne};
+  };
+  const auto outside = [&](P u, P v) {
+    return std::max(u.x, v.x) + t < 0 || std::min(u.x, v.x) - t > width ||
+           std::max(u.y, v.y) + t < 0 || std::min(u.y, v.y) - t > height;
+  };
+  for (std::size_t i = 0; i + 1 < beams.size(); ++i) {
+    const Beam &p = beams[i], &q = beams[i + 1];
+    const P a = at(i), b = at(i + 1);
+    const double length = std::hypot(b.x - a.x, b.y - a.y);
+    if (length * rule.resolution_m > rule.join_m + rule.join_per_m * std::min(p.range, q.range)) {
+      if (!p.is_virtual && !outside(a, a)) AddPiece(a, a, t, width, height, near, seen);
+      if (!q.is_virtual && !outside(b, b)) AddPiece(b, b, t, width, height, near, seen);
+      continue;
+    }
+    const int pieces = std::max(1, int(std::ceil(length)));
+    for (int k = 0; k < pieces; ++k) {
+      const P u{a.x + (b.x - a.x) * k / pieces, a.y + (b.y - a.y) * k / pieces};
+      const P v{a.x + (b.x - a.x) * (k + 1) / pieces, a.y + (b.y - a.y) * (k + 1) / pieces};
+      if (!outside(u, v)) AddPiece(u, v, t, width, height, near, seen);
+    }
+  }
+}
+
+}  // namespace freespace

@@ -1,0 +1,38 @@
+// The per-scan face layer of the conservative polygon (polygon.face_tolerance_m): where this
+// scan's outline says the obstacles' faces are, to the sub-cell, so that the polygon mask keeps
+// out what lies near a face rather than every cell next to an occupied one (docs/design.md).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "freespace/config.hpp"
+
+namespace freespace {
+
+struct Beam;
+
+struct FaceRule {
+  double tolerance_m = 0.0;  // polygon.face_tolerance_m: how close to a face a cell is kept out
+  // An outline edge longer than join_m + join_per_m * (the nearer beam's range) joins two
+  // surfaces (a shadow's side) rather than running along one: the clutter filter's
+  // neighbourhood (clutter.eps_m, eps_per_m).
+  double join_m = 0.0;
+  double join_per_m = 0.0;
+  double resolution_m = 0.2;
+
+  // The rule `config` sets: tolerance 0 unless polygon.shape is inside.
+  static FaceRule Of(const Config& config);
+};
+
+// From one scan's outline: `vertices` its full-scan polygon's closed ring (fixed point, vertex 0
+// the sensor) and `beams` its vertices 1 .. n (the same count, in order). Appends to `near`
+// every map cell whose square lies within rule.tolerance_m of a face: an outline edge between
+// two consecutive beams that runs along one surface, or a real (not virtual) beam's point at
+// either end of an edge that joins two. Appends to `seen` the cells such a face or point
+// touches. Cells outside the map are left out; repeats allowed.
+void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam>& beams,
+               const FaceRule& rule, int width, int height, std::vector<std::int32_t>* near,
+               std::vector<std::int32_t>* seen);
+
+}  // namespace freespace

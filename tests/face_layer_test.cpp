@@ -1,0 +1,112 @@
+// The per-scan face layer (polygon.face_tolerance_m): which cells lie near this scan's faces and
+// which its outline touches, on hand-made outlines with known answers.
+#include "core/face_layer.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "core/fixed_point.hpp"
+#include "core/preprocess.hpp"
+#include "test_util.hpp"
+
+namespace freespace {
+namespace {
+
+constexpr int kWidth = 30, kHeight = 30;
+
+struct Outline {
+  std::vector<std::int32_t> vertices = {0, 0};  // vertex 0: the sensor, at the map's corner
+  std::vector<Beam> beams;
+
+  // A beam's point at (x, y) cells, `range` metres from the sensor.
+  void Add(double x, double y, double range, bool is_virtual = false) {
+    vertices.push_back(std::int32_t(x * kFixedOne));
+    vertices.push_back(std::int32_t(y * kFixedOne));
+    Beam b;
+    b.range = float(range);
+    b.is_virtual = is_virtual;
+    beams.push_back(b);
+  }
+};
+
+FaceRule Rule() {
+  FaceRule rule;
+  rule.tolerance_m = 0.05;  // a quarter of a cell
+  rule.join_m = 0.5;        // an edge over 2.5 cells joins two surfaces
+  rule.join_per_m = 0.0;
+  rule.resolution_m = 0.2;
+  return rule;
+}
+
+std::set<std::pair<int, int>> Cells(const std::vector<std::int32_t>& list) {
+  std::set<std::pair<int, int>> cells;
+  for (const std::int32_t i : list) {
+    EXPECT_GE(i, 0);
+    EXPECT_LT(i, kWidth * kHeight);
+    cells.insert({i % kWidth, i / kWidth});  // (col, row)
+  }
+  return cells;
+}
+
+TEST(FaceLayer, ACellIsNearAFaceWithinTheTolerance) {
+  // A wall along y = 10.1 from x = 2.5 to 8.5, beams one cell apart: it touches row 10, and row
+  // 9's top edge lies 0.1 cell from it, within the quarter cell; row 11 (0.9 away) does not.
+  Outline o;
+  for (int k = 0; k <= 6; ++k) o.Add(2.5 + k, 10.1, 3.0);
+  std::vector<std::int32_t> near, seen;
+  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
+  std::set<std::pair<int, int>> want_seen, want_near;
+  for (int c = 2; c <= 8; ++c) {
+    want_seen.insert({c, 10});
+    want_near.insert({c, 10});
+    want_near.insert({c, 9});
+  }
+  EXPECT_EQ(Cells(seen), want_seen);
+  EXPECT_EQ(Cells(near), want_near);
+}
+
+TEST(FaceLayer, AnEdgeJoiningTwoSurfacesCountsOnlyAtItsRealEnds) {
+  // A near wall ending at (5.5, 5.5), then a jump of 10 cells to a far one from (15.5, 15.5): the
+  // join between them is no face, its ends are. The far wall's last point is virtual (no echo),
+  // and stands at the end of a join: nothing of it is near.
+  Outline o;
+  o.Add(3.5, 5.5, 1.3);
+  o.Add(5.5, 5.5, 1.5);
+  o.Add(15.5, 15.5, 4.4);
+  o.Add(17.5, 15.5, 4.6);
+  o.Add(27.5, 25.5, 7.4, /*is_virtual=*/true);
+  std::vector<std::int32_t> near, seen;
+  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
+  const std::set<std::pair<int, int>> cells = Cells(near);
+  for (int c = 3; c <= 5; ++c) EXPECT_TRUE(cells.count({c, 5})) << c;
+  for (int c = 15; c <= 17; ++c) EXPECT_TRUE(cells.count({c, 15})) << c;
+  for (int k = 7; k <= 13; ++k) EXPECT_FALSE(cells.count({k, k})) << "on the join, " << k;
+  EXPECT_FALSE(cells.count({27, 25}));
+  EXPECT_FALSE(cells.count({22, 20})) << "on the second join";
+  EXPECT_EQ(Cells(seen).size(), 6u);  // the two walls' cells only
+}
+
+TEST(FaceLayer, AShortEdgeToAVirtualPointIsAFace) {
+  // No echo on the second beam: its virtual point lies on the same surface, one cell on, and the
+  // edge between them is a face like any other.
+  Outline o;
+  o.Add(3.5, 5.5, 1.3);
+  o.Add(4.5, 5.5, 1.4, /*is_virtual=*/true);
+  std::vector<std::int32_t> near, seen;
+  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
+  EXPECT_EQ(Cells(seen), (std::set<std::pair<int, int>>{{3, 5}, {4, 5}}));
+}
+
+TEST(FaceLayer, CellsOutsideTheMapAreLeftOut) {
+  // A wall running from outside the map, across its corner and out again.
+  Outline o;
+  for (int k = -6; k <= 6; ++k) o.Add(-3.0 + 0.5 * k + 3, 0.25 * k + 1.0, 2.0);
+  std::vector<std::int32_t> near, seen;
+  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
+  EXPECT_FALSE(seen.empty());
+  Cells(near);  // every index inside the map
+  Cells(seen);
+}
+
+}  // namespace
+}  // namespace freespace
