@@ -24,6 +24,8 @@ HostBackend::HostBackend(const KernelParams& params, int threads)
       bits_unconfirmed_(bits_strong_.size(), 0),
       free_(bits_strong_.size(), 0),
       echo_(bits_strong_.size(), 0),
+      face_near_(bits_strong_.size(), 0),
+      face_seen_(bits_strong_.size(), 0),
       mask_(bits_strong_.size(), 0),
       edge_seen_((cells() + 63) / 64, 0),
       stop_(BorderLabelCount(params.height, params.width), 0),

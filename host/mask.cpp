@@ -1,13 +1,14 @@
 // Kernel stage 3b on the host: the polygon mask of the conservative polygon (polygon.shape
-// inside). Mirrors kernels/mask.cl.
+// inside), and the face layer it reads (SetFaces). Mirrors kernels/mask.cl.
 //
 // The free mask, plus the cells around the sensor the opening took but the scans saw free more
 // often than occupied, less the safety margin: a cell with an unconfirmed neighbour (the map's
 // log-odds >= 0: occupied, or never seen free; or an echo of this scan) within margin_cells,
 // where the line of sight from one of the scanners through the cell runs on toward that
 // neighbour (InMarginConeOfAny). The echoes of this scan count, so that a vehicle now in a
-// place the map still holds free keeps its margin too. A row at a time, as bitsets; only the cells
-// next to an unconfirmed one are tested for the cone.
+// place the map still holds free keeps its margin too. With the face layer, the cells this scan's
+// outline touches are no sources, and the cells near its faces are out. A row at a time, as
+// bitsets; only the cells next to an unconfirmed one are tested for the cone.
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -36,8 +37,10 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
   const std::uint64_t valid_last = (width % 64) ? (~0ull >> (64 - width % 64)) : ~0ull;
   // The margin's sources of row rr: outside the rows Classify() kept, every cell is unknown.
   const auto sources = [&](int rr, int w) -> std::uint64_t {
-    if (rr < bits_rows_.begin || rr >= bits_rows_.end) return w + 1 == nw ? valid_last : ~0ull;
-    return bits_unconfirmed_[std::size_t(rr) * nw + w] | echo_[std::size_t(rr) * nw + w];
+    const std::size_t i = std::size_t(rr) * nw + w;
+    if (rr < bits_rows_.begin || rr >= bits_rows_.end)
+      return (w + 1 == nw ? valid_last : ~0ull) & ~face_seen_[i];
+    return (bits_unconfirmed_[i] | echo_[i]) & ~face_seen_[i];
   };
   auto mask_row = [&](int r) {
     std::uint64_t* out = mask_.data() + std::size_t(r) * nw;
@@ -47,6 +50,7 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
     }
     std::copy(free_.data() + std::size_t(r) * nw, free_.data() + std::size_t(r + 1) * nw, out);
     const std::uint64_t* echo = echo_.data() + std::size_t(r) * nw;
+    const std::uint64_t* near_face = face_near_.data() + std::size_t(r) * nw;
     if (r >= stand.begin && r < stand.end) {
       for (int c = std::max(0, sensor.cell.col - h); c <= std::min(width - 1, sensor.cell.col + h);
            ++c) {
@@ -92,6 +96,7 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
       }
       for (int w = 0; w < nw; ++w) out[w] &= ~kill[w];
     }
+    for (int w = 0; w < nw; ++w) out[w] &= ~near_face[w];
     if (r == sensor.cell.row)
       out[sensor.cell.col >> 6] |= std::uint64_t{1} << (sensor.cell.col & 63);
   };
@@ -104,6 +109,19 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
     });
   }
   mask_rows_ = span;
+}
+
+void HostBackend::SetFaces(const std::int32_t* near, int near_count, const std::int32_t* seen,
+                           int seen_count) {
+  const int width = params_.width, nw = words();
+  const auto word = [&](std::int32_t c) { return std::size_t(c / width) * nw + (c % width) / 64; };
+  const auto bit = [&](std::int32_t c) { return std::uint64_t{1} << ((c % width) % 64); };
+  // Each old cell's word to 0 clears every old bit.
+  for (const std::int32_t c : face_cells_) face_near_[word(c)] = face_seen_[word(c)] = 0;
+  face_cells_.assign(near, near + near_count);
+  face_cells_.insert(face_cells_.end(), seen, seen + seen_count);
+  for (int i = 0; i < near_count; ++i) face_near_[word(near[i])] |= bit(near[i]);
+  for (int i = 0; i < seen_count; ++i) face_seen_[word(seen[i])] |= bit(seen[i]);
 }
 
 }  // namespace freespace

@@ -8,8 +8,10 @@
 // log-odds >= 0 (occupied, or never seen free more often than occupied).
 // mask_rows: one work-item per row of the polygon mask: the free mask, plus the cells within
 // OPENING_RADIUS of the sensor's cell with log-odds below 0 and no echo, less every cell with a
-// source (unconfirmed, or an echo) within MARGIN_CELLS in the margin's cone of one of the views
-// (the scanners, fixed point, at most 16), plus the sensor's own cell. Bitsets of BIT_WORDS ulong words a row (common.cl).
+// source (unconfirmed, or an echo; not a cell the face layer's outline touches, face_seen) within
+// MARGIN_CELLS in the margin's cone of one of the views (the scanners, fixed point, at most 16),
+// less the cells near a face (face_near), plus the sensor's own cell. Bitsets of BIT_WORDS ulong
+// words a row (common.cl).
 //
 // Build options: those of common.cl, OPENING_RADIUS, MARGIN_CELLS, CONE_COS, CONE_SIN (the
 // cone's half-angle times 2^20) and MARGIN_ALL (1: the margin all around).
@@ -74,20 +76,22 @@ bool MaskInConeOfAny(const int* view_x, const int* view_y, int view_count, int c
 }
 
 // The margin's cells among the candidates `out` of row r: those with a source (unconfirmed or
-// echo) within MARGIN_CELLS in the cone of one of the views, into kill.
-void MaskMargin(__global const ulong* unconfirmed, __global const ulong* echo, int r,
-                const int* view_x, const int* view_y, int view_count, const ulong* out,
-                ulong* kill) {
+// echo, and not seen) within MARGIN_CELLS in the cone of one of the views, into kill.
+void MaskMargin(__global const ulong* unconfirmed, __global const ulong* echo,
+                __global const ulong* seen, int r, const int* view_x, const int* view_y,
+                int view_count, const ulong* out, ulong* kill) {
   for (int dy = -MARGIN_CELLS; dy <= MARGIN_CELLS; ++dy) {
     const int rr = r + dy;
     if (rr < 0 || rr >= HEIGHT) continue;
     __global const ulong* occ = unconfirmed + rr * BIT_WORDS;
     __global const ulong* ech = echo + rr * BIT_WORDS;
+    __global const ulong* see = seen + rr * BIT_WORDS;
     for (int dx = -MARGIN_CELLS; dx <= MARGIN_CELLS; ++dx) {
       if (dx == 0 && dy == 0) continue;
       for (int w = 0; w < BIT_WORDS; ++w) {
-        ulong candidates =
-            out[w] & ~kill[w] & (MaskBits64(occ, w * 64 + dx) | MaskBits64(ech, w * 64 + dx));
+        const int at = w * 64 + dx;
+        ulong candidates = out[w] & ~kill[w] & (MaskBits64(occ, at) | MaskBits64(ech, at)) &
+                           ~MaskBits64(see, at);
         while (candidates != 0) {
           const int bit = 63 - (int)clz(candidates & (~candidates + 1UL));
           candidates &= candidates - 1;
@@ -101,6 +105,7 @@ void MaskMargin(__global const ulong* unconfirmed, __global const ulong* echo, i
 }
 
 __kernel void mask_rows(__global const ulong* free, __global const ulong* echo,
+                        __global const ulong* face_near, __global const ulong* face_seen,
                         __global const ulong* unconfirmed, __global const short* map,
                         __global ulong* mask, int first_row, int end_row, int span_begin,
                         int span_end, int sensor_col, int sensor_row, int16 view_x16,
@@ -127,9 +132,10 @@ __kernel void mask_rows(__global const ulong* free, __global const ulong* echo,
   int view_x[16], view_y[16];
   vstore16(view_x16, 0, view_x);
   vstore16(view_y16, 0, view_y);
-  MaskMargin(unconfirmed, echo, r, view_x, view_y, view_count, out, kill);
+  MaskMargin(unconfirmed, echo, face_seen, r, view_x, view_y, view_count, out, kill);
   for (int w = 0; w < BIT_WORDS; ++w) out[w] &= ~kill[w];
 #endif
+  for (int w = 0; w < BIT_WORDS; ++w) out[w] &= ~face_near[r * BIT_WORDS + w];
   if (r == sensor_row) out[sensor_col >> 6] |= 1UL << (sensor_col & 63);
   for (int w = 0; w < BIT_WORDS; ++w) row[w] = out[w];
 }

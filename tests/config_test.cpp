@@ -171,13 +171,22 @@ TEST(Config, PolygonMarginIsValidatedAndKept) {
             std::string::npos);
   EXPECT_NE(ErrorOf(inside + "  margin_cone_deg: 181\n").find("polygon.margin_cone_deg = 181"),
             std::string::npos);
+  EXPECT_EQ(ErrorOf(inside + "  face_tolerance_m: 0.05\n"), "");
+  EXPECT_NE(ErrorOf(inside + "  face_tolerance_m: -0.1\n").find("polygon.face_tolerance_m = -0.1"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(inside + "  face_tolerance_m: 2\n").find("polygon.face_tolerance_m = 2"),
+            std::string::npos);
+  const std::string faces = ErrorOf("polygon:\n  face_tolerance_m: 0.05\n");
+  EXPECT_NE(faces.find("polygon.shape inside"), std::string::npos) << faces;
   Config c;
   c.polygon.shape = PolygonShape::kInside;
   c.polygon.margin_cells = 3;
   c.polygon.margin_cone_deg = 45.5;
+  c.polygon.face_tolerance_m = 0.07;
   const Config back = Config::FromYaml(c.ToYaml());
   EXPECT_EQ(back.polygon.margin_cells, 3);
   EXPECT_DOUBLE_EQ(back.polygon.margin_cone_deg, 45.5);
+  EXPECT_DOUBLE_EQ(back.polygon.face_tolerance_m, 0.07);
 }
 
 TEST(Config, ThresholdsAgreeWithProbabilitiesOnEveryLogOdds) {
@@ -292,10 +301,9 @@ TEST(ConfigDocs, ScalaYamlSetsEveryFieldToItsDefaultButTheNamedOnes) {
   const Config scala = test::LoadProjectConfig("scala.yaml");
   const YAML::Node values = YAML::Load(scala.ToYaml()), defaults = YAML::Load(Config().ToYaml());
   const std::set<std::string> not_default = {
-      "sensor.mount_x_m",        "sensor.sweep_s",
-      "polygon.shape",           "polygon.max_vertices",
-      "polygon.epsilon_m",       "polygon.margin_cells",
-      "polygon.margin_cone_deg", "sensor_model.free_on_outline"};
+      "sensor.mount_x_m",        "sensor.sweep_s",           "polygon.shape",
+      "polygon.max_vertices",    "polygon.epsilon_m",        "polygon.margin_cells",
+      "polygon.margin_cone_deg", "polygon.face_tolerance_m", "sensor_model.free_on_outline"};
   for (const std::string& name : ConfigFieldNames()) {
     const std::string section = name.substr(0, name.find('.'));
     const std::string field = name.substr(name.find('.') + 1);

@@ -15,6 +15,7 @@ struct Scene {
   std::vector<LogOdds> map;
   std::vector<std::uint8_t> free;  // the free mask stage 3 would have made
   std::vector<std::int32_t> echoes;
+  std::vector<std::int32_t> face_near, face_seen;  // the face layer (SetFaces)
   Vec2 sensor;
   std::vector<Vec2> scanners;  // the margin's lines of sight (none: from the sensor)
 };
@@ -31,6 +32,8 @@ std::vector<std::uint8_t> MaskOf(Backend& backend, const Scene& s) {
   backend.WriteLogOdds(s.map.data());
   backend.WriteFree(s.free.data());
   backend.SetEchoes(s.echoes.data(), int(s.echoes.size()));
+  backend.SetFaces(s.face_near.data(), int(s.face_near.size()), s.face_seen.data(),
+                   int(s.face_seen.size()));
   backend.Mask(MakeSensorCell(s.sensor, s.width, s.height), ViewsOf(s));
   const int words = (s.width + 63) / 64;
   std::vector<std::uint64_t> bits(std::size_t(words) * s.height, 0);
@@ -49,19 +52,22 @@ std::vector<std::uint8_t> Expected(const Scene& s, const KernelParams& p) {
   const SensorCell sensor = MakeSensorCell(s.sensor, s.width, s.height);
   const MarginViews views = ViewsOf(s);
   std::vector<std::uint8_t> echo(s.free.size(), 0), mask(s.free.size(), 0);
+  std::vector<std::uint8_t> near(s.free.size(), 0), seen(s.free.size(), 0);
   for (const std::int32_t c : s.echoes) echo[std::size_t(c)] = 1;
+  for (const std::int32_t c : s.face_near) near[std::size_t(c)] = 1;
+  for (const std::int32_t c : s.face_seen) seen[std::size_t(c)] = 1;
   const auto at = [&](int r, int c) { return std::size_t(r) * s.width + c; };
   for (int r = 0; r < s.height; ++r) {
     for (int c = 0; c < s.width; ++c) {
       const bool stands = std::abs(r - sensor.cell.row) <= p.opening_radius &&
                           std::abs(c - sensor.cell.col) <= p.opening_radius &&
                           s.map[at(r, c)] < 0 && !echo[at(r, c)];
-      bool in = s.free[at(r, c)] || stands;
+      bool in = (s.free[at(r, c)] || stands) && !near[at(r, c)];
       for (int dy = -p.margin_cells; in && dy <= p.margin_cells; ++dy) {
         for (int dx = -p.margin_cells; in && dx <= p.margin_cells; ++dx) {
           const int rr = r + dy, cc = c + dx;
           if ((dx == 0 && dy == 0) || rr < 0 || cc < 0 || rr >= s.height || cc >= s.width) continue;
-          const bool source = s.map[at(rr, cc)] >= 0 || echo[at(rr, cc)];
+          const bool source = (s.map[at(rr, cc)] >= 0 || echo[at(rr, cc)]) && !seen[at(rr, cc)];
           for (int v = 0; v < views.count; ++v) {
             if (source && InMarginCone(p, views.x[v], views.y[v], c, r, dx, dy)) in = false;
           }
@@ -176,6 +182,12 @@ TEST_P(MaskTest, MatchesTheRuleOnRandomMaps) {
       s.free[i] = s.map[i] < -80 && pick(rng) > 1;
     }
     for (int e = int(rng() % 60); e > 0; --e) s.echoes.push_back(std::int32_t(rng() % cells));
+    for (int e = trial % 2 ? int(rng() % 200) : 0; e > 0; --e) {
+      s.face_near.push_back(std::int32_t(rng() % cells));
+      if (rng() % 2) s.face_seen.push_back(s.face_near.back());
+      if (rng() % 3 == 0)
+        s.face_seen.push_back(s.echoes.empty() ? 0 : s.echoes[rng() % s.echoes.size()]);
+    }
     std::uniform_real_distribution<double> x(0.0, s.width), y(0.0, s.height);
     s.sensor = Vec2(x(rng), y(rng));
     if (trial % 5 == 0) s.sensor = Vec2(std::floor(s.sensor.x()) + 0.5, std::floor(s.sensor.y()));
@@ -191,6 +203,34 @@ TEST_P(MaskTest, MatchesTheRuleOnRandomMaps) {
     FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), p);
     ASSERT_EQ(MaskOf(*backend, s), Expected(s, p)) << "trial " << trial;
   }
+}
+
+TEST_P(MaskTest, TheFaceLayerDecidesNearTheOutline) {
+  // A wall's echoes in row 5, the face just below them touching those cells and keeping out the
+  // free cells of row 4 under its middle: with faces, the wall's cells are no margin sources, so
+  // the margin no longer takes the whole of row 4 and the sensor's side of the wall is kept but
+  // for the face's own cells.
+  std::vector<std::uint8_t> expected;
+  Scene s = FromText({"??????????",  //
+                      "eeeeeeeeee",  //
+                      "..........",  //
+                      "..........",  //
+                      "..........",  //
+                      "....o.....",  //
+                      ".........."},
+                     &expected);
+  const KernelParams p = MarginParams(s.width, s.height, 1, 180);
+  FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), p);
+  const std::vector<std::uint8_t> margin_only = MaskOf(*backend, s);
+  const int wall = 5;
+  for (int c = 0; c < s.width; ++c) EXPECT_FALSE(margin_only[std::size_t(wall - 1) * s.width + c]);
+  for (int c = 0; c < s.width; ++c) s.face_seen.push_back(wall * s.width + c);
+  for (int c = 3; c < 7; ++c) s.face_near.push_back((wall - 1) * s.width + c);
+  const std::vector<std::uint8_t> mask = MaskOf(*backend, s);
+  for (int c = 0; c < s.width; ++c) {
+    EXPECT_EQ(mask[std::size_t(wall - 1) * s.width + c], c < 3 || c >= 7) << "col " << c;
+  }
+  EXPECT_EQ(mask, Expected(s, p));
 }
 
 TEST_P(MaskTest, VetoTakesThisScansEchoesOutOfTheFreeMask) {

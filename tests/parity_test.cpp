@@ -140,6 +140,19 @@ TEST(Parity, IntelLabInsidePolygonMarginEveryScan) {
   RunLog(path, IndoorInsideMargin, SensorModelKind::kEnhanced);
 }
 
+// The face layer: worked out on the host from each scan's outline, uploaded as bitsets.
+Config IndoorInsideFaces(const SensorConfig& sensor) {
+  Config c = IndoorInsideMargin(sensor);
+  c.polygon.margin_cone_deg = 20.0;
+  c.polygon.face_tolerance_m = 0.05;
+  return c;
+}
+
+TEST(Parity, IntelLabInsidePolygonFacesEveryScan) {
+  FREESPACE_REQUIRE_DATA("carmen/intel-corrected.log", path);
+  RunLog(path, IndoorInsideFaces, SensorModelKind::kEnhanced);
+}
+
 // How the host waits for the device's result must not change it: spinning reads the stop cells
 // only once the read-back is complete, as blocking does (the default, auto, is tested above).
 Config IndoorSpin(const SensorConfig& sensor) {

@@ -20,6 +20,7 @@ Preprocessor::Preprocessor(const Config& config)
     : sensor_(config.sensor),
       resolution_m_(config.map.resolution_m),
       clear_outline_(!config.sensor_model.free_on_outline),
+      face_rule_(FaceRule::Of(config)),
       min_angle_(config.sensor.min_angle_deg * kDegToRad),
       bin_width_(config.sensor.angular_resolution_deg * kDegToRad),
       bins_(BinCount(config.sensor)),
@@ -195,6 +196,10 @@ void Preprocessor::Project(const Vec2& sensor_cells, double yaw, int width, int 
   job->clear_outline = clear_outline_;
   job->row_begin = std::clamp(r0, 0, height);
   job->row_end = std::clamp(r1, 0, height);
+  face_near_.clear();
+  face_seen_.clear();
+  if (face_rule_.tolerance_m > 0)
+    FaceCells(vertices_, beams_, face_rule_, width, height, &face_near_, &face_seen_);
 }
 
 void Preprocessor::ProjectRays(const Vec2& sensor_cells, double yaw, int width, int height,

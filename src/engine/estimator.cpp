@@ -229,8 +229,12 @@ void Estimator::Impl::UpdateMap(bool has_update, const Scan& scan) {
     sensor_model_->Update(preprocess_.get(), r.vehicle_cells, r.yaw, backend_.get(), &r.times);
     const std::vector<std::int32_t>& echoes = preprocess_->echo_cells();
     backend_->SetEchoes(echoes.data(), int(echoes.size()));
+    const std::vector<std::int32_t>& near = preprocess_->face_near_cells();
+    const std::vector<std::int32_t>& seen = preprocess_->face_seen_cells();
+    backend_->SetFaces(near.data(), int(near.size()), seen.data(), int(seen.size()));
   } else {
     backend_->SetEchoes(nullptr, 0);
+    backend_->SetFaces(nullptr, 0, nullptr, 0);
     r.status = ScanStatus::kNoSensorUpdate;
     r.message.assign(scan.points.empty() ? "empty scan: no sensor update"
                                          : "no usable echo: no sensor update");

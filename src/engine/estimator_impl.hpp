@@ -110,6 +110,8 @@ class Estimator::Impl {
   std::unique_ptr<tbb::task_arena> rig_arena_;  // their parallel work when backend.threads > 0
   std::vector<int> cycle_order_;                // the cycle's scans by sensor index
   std::vector<std::int32_t> cycle_echoes_;      // echo cells of every scan of the cycle
+  std::vector<std::int32_t> cycle_face_near_;   // the face layer of every scan of the cycle:
+  std::vector<std::int32_t> cycle_face_seen_;   // near, seen
   std::vector<Vec2> cycle_scanners_;            // map cells of the cycle's scanners with an update
   std::int32_t footprint_[8] = {};              // the footprint's corners, fixed point
   mutable std::vector<LogOdds> map_mirror_;

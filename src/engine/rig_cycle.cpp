@@ -164,8 +164,8 @@ bool Estimator::Impl::PreprocessCycle(const Scan* scans) {
 // during its sweep (one after the other: the trackers follow the map's resets), then each scan
 // deskewed and projected, the sensors in parallel (host work on each sensor's own buffers, its
 // time in rasterize_us), then the sensor model's kernels and the fusion in the rig's order; then
-// the footprint. The veto layer holds every scan's echoes, and the polygon mask's margin follows
-// the lines of sight of the scanners that updated the map.
+// the footprint. The veto and face layers hold every scan's echoes and faces, and the polygon
+// mask's margin follows the lines of sight of the scanners that updated the map.
 void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   Result& r = result_;
   const int n = int(cycle_order_.size());
@@ -198,6 +198,8 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   r.times.rasterize_us += Micros(start, Clock::now());
 
   cycle_echoes_.clear();
+  cycle_face_near_.clear();
+  cycle_face_seen_.clear();
   cycle_scanners_.clear();
   for (int k = 0; k < n; ++k) {
     RigSensor& unit = rig_[scans[cycle_order_[k]].sensor];
@@ -206,9 +208,15 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
     sensor_model_->Apply(unit.projection, backend_.get(), &r.times);
     const std::vector<std::int32_t>& echoes = unit.preprocess->echo_cells();
     cycle_echoes_.insert(cycle_echoes_.end(), echoes.begin(), echoes.end());
+    const std::vector<std::int32_t>& near = unit.preprocess->face_near_cells();
+    cycle_face_near_.insert(cycle_face_near_.end(), near.begin(), near.end());
+    const std::vector<std::int32_t>& seen = unit.preprocess->face_seen_cells();
+    cycle_face_seen_.insert(cycle_face_seen_.end(), seen.begin(), seen.end());
   }
   FuseFootprint();
   backend_->SetEchoes(cycle_echoes_.data(), int(cycle_echoes_.size()));
+  backend_->SetFaces(cycle_face_near_.data(), int(cycle_face_near_.size()), cycle_face_seen_.data(),
+                     int(cycle_face_seen_.size()));
 }
 
 // The footprint rectangle around the reference point, turned with the vehicle, fused as one

@@ -34,18 +34,20 @@ constexpr cl_uint kEndRow = 3;
 namespace mask_rows_arg {
 constexpr cl_uint kFree = 0;
 constexpr cl_uint kEcho = 1;
-constexpr cl_uint kUnconfirmed = 2;
-constexpr cl_uint kMap = 3;
-constexpr cl_uint kMask = 4;
-constexpr cl_uint kFirstRow = 5;
-constexpr cl_uint kEndRow = 6;
-constexpr cl_uint kSpanBegin = 7;
-constexpr cl_uint kSpanEnd = 8;
-constexpr cl_uint kSensorCol = 9;
-constexpr cl_uint kSensorRow = 10;
-constexpr cl_uint kViewX = 11;
-constexpr cl_uint kViewY = 12;
-constexpr cl_uint kViewCount = 13;
+constexpr cl_uint kFaceNear = 2;
+constexpr cl_uint kFaceSeen = 3;
+constexpr cl_uint kUnconfirmed = 4;
+constexpr cl_uint kMap = 5;
+constexpr cl_uint kMask = 6;
+constexpr cl_uint kFirstRow = 7;
+constexpr cl_uint kEndRow = 8;
+constexpr cl_uint kSpanBegin = 9;
+constexpr cl_uint kSpanEnd = 10;
+constexpr cl_uint kSensorCol = 11;
+constexpr cl_uint kSensorRow = 12;
+constexpr cl_uint kViewX = 13;
+constexpr cl_uint kViewY = 14;
+constexpr cl_uint kViewCount = 15;
 }  // namespace mask_rows_arg
 
 namespace insight_exact_arg {
@@ -76,21 +78,25 @@ void OpenClBackend::SetUpMask() {
     Check(status, "clCreateBuffer");
     return mem;
   };
-  echo_ = buffer(words * 8);
+  for (CellLayer* layer : {&echo_, &face_near_, &face_seen_}) {
+    layer->bits = buffer(words * 8);
+    Fill(layer->bits.get(), words * 8);
+    layer->host.assign(words, 0);
+    layer->cells.reserve(16384);
+  }
   unconfirmed_bits_ = buffer(words * 8);
   mask_ = buffer(words * 8);
   exact_stops_ = buffer(labels() * 12);
-  Fill(echo_.get(), words * 8);
   Fill(unconfirmed_bits_.get(), words * 8);
   Fill(mask_.get(), words * 8);
-  echo_host_.assign(words, 0);
-  echo_cells_.reserve(16384);
   exact_host_.assign(labels() * 3, 0);
   SetArg(mask_veto_.get(), mask_veto_arg::kFree, free_.get());
-  SetArg(mask_veto_.get(), mask_veto_arg::kEcho, echo_.get());
+  SetArg(mask_veto_.get(), mask_veto_arg::kEcho, echo_.bits.get());
   SetArg(mask_unconfirmed_.get(), mask_unconfirmed_arg::kUnconfirmed, unconfirmed_bits_.get());
   SetArg(mask_rows_.get(), mask_rows_arg::kFree, free_.get());
-  SetArg(mask_rows_.get(), mask_rows_arg::kEcho, echo_.get());
+  SetArg(mask_rows_.get(), mask_rows_arg::kEcho, echo_.bits.get());
+  SetArg(mask_rows_.get(), mask_rows_arg::kFaceNear, face_near_.bits.get());
+  SetArg(mask_rows_.get(), mask_rows_arg::kFaceSeen, face_seen_.bits.get());
   SetArg(mask_rows_.get(), mask_rows_arg::kUnconfirmed, unconfirmed_bits_.get());
   SetArg(mask_rows_.get(), mask_rows_arg::kMask, mask_.get());
   SetArg(insight_exact_.get(), insight_exact_arg::kMask, mask_.get());
@@ -104,36 +110,46 @@ void OpenClBackend::SetUpMask() {
   Finish();
 }
 
-void OpenClBackend::SetEchoes(const std::int32_t* cells, int count) {
+void OpenClBackend::UploadCells(CellLayer* layer, const std::int32_t* cells, int count) {
   // The staging buffer may still be read by the last upload.
-  if (echo_upload_) {
-    const cl_event last = echo_upload_.get();
+  if (layer->upload) {
+    const cl_event last = layer->upload.get();
     Check(clWaitForEvents(1, &last), "clWaitForEvents");
   }
   const int width = params_.width, nw = BitWords();
-  for (const std::int32_t c : echo_cells_)
-    echo_host_[std::size_t(c / width) * nw + (c % width) / 64] = 0;
+  for (const std::int32_t c : layer->cells)
+    layer->host[std::size_t(c / width) * nw + (c % width) / 64] = 0;
   RowSpan rows;
-  echo_cells_.assign(cells, cells + count);
-  for (const std::int32_t c : echo_cells_) {
+  layer->cells.assign(cells, cells + count);
+  for (const std::int32_t c : layer->cells) {
     const int row = c / width;
-    echo_host_[std::size_t(row) * nw + (c % width) / 64] |= std::uint64_t{1} << ((c % width) % 64);
+    layer->host[std::size_t(row) * nw + (c % width) / 64] |= std::uint64_t{1} << ((c % width) % 64);
     rows = rows.Hull({row, row + 1});
   }
-  // The rows that held echoes and those that hold them now.
-  const RowSpan upload = rows.Hull(echo_rows_);
-  echo_rows_ = rows;
+  // The rows that held cells and those that hold them now.
+  const RowSpan upload = rows.Hull(layer->rows);
+  layer->rows = rows;
   if (upload.empty()) return;
   const std::size_t offset = std::size_t(upload.begin) * nw * 8;
   const std::size_t bytes = std::size_t(upload.end - upload.begin) * nw * 8;
-  Check(clEnqueueWriteBuffer(queue_.get(), echo_.get(), CL_FALSE, offset, bytes,
-                             echo_host_.data() + std::size_t(upload.begin) * nw, 0, nullptr,
-                             echo_upload_.out()),
+  Check(clEnqueueWriteBuffer(queue_.get(), layer->bits.get(), CL_FALSE, offset, bytes,
+                             layer->host.data() + std::size_t(upload.begin) * nw, 0, nullptr,
+                             layer->upload.out()),
         "clEnqueueWriteBuffer");
 }
 
+void OpenClBackend::SetEchoes(const std::int32_t* cells, int count) {
+  UploadCells(&echo_, cells, count);
+}
+
+void OpenClBackend::SetFaces(const std::int32_t* near, int near_count, const std::int32_t* seen,
+                             int seen_count) {
+  UploadCells(&face_near_, near, near_count);
+  UploadCells(&face_seen_, seen, seen_count);
+}
+
 void OpenClBackend::VetoEchoes(RowSpan rows, opencl::Event* end) {
-  const RowSpan veto{std::max(rows.begin, echo_rows_.begin), std::min(rows.end, echo_rows_.end)};
+  const RowSpan veto{std::max(rows.begin, echo_.rows.begin), std::min(rows.end, echo_.rows.end)};
   if (veto.empty()) return;
   SetArg(mask_veto_.get(), mask_veto_arg::kFirstRow, cl_int(veto.begin));
   SetArg(mask_veto_.get(), mask_veto_arg::kEndRow, cl_int(veto.end));

@@ -39,6 +39,9 @@ class HostBackend final : public Backend {
                     std::vector<CellIndex>* edges) override;
   void Shift(int dx, int dy) override;  // host/shift.cpp
   void Clear() override;
+  // The face layer's two bitsets (host/mask.cpp).
+  void SetFaces(const std::int32_t* near, int near_count, const std::int32_t* seen,
+                int seen_count) override;
 
   void ReadLogOdds(LogOdds* dst) override;
   void WriteLogOdds(const LogOdds* src) override;
@@ -76,6 +79,9 @@ class HostBackend final : public Backend {
   std::vector<std::uint64_t> free_;       // stage 3 output, stage 4 input: bitset rows
   std::vector<std::uint64_t> echo_;       // this scan's echo cells (SetEchoes), bitset rows
   std::vector<std::int32_t> echo_cells_;  // and as given, to clear them for the next scan
+  std::vector<std::uint64_t> face_near_;  // the face layer (SetFaces): near a face, bitset rows
+  std::vector<std::uint64_t> face_seen_;  // and touched by the outline
+  std::vector<std::int32_t> face_cells_;  // both as given, to clear them for the next scan
   std::vector<std::uint64_t> mask_;       // stage 3b output: the polygon mask, bitset rows
   RowSpan mask_rows_;                     // every row of mask_ with a set bit
   std::vector<std::uint64_t> edge_seen_;  // stage 4: stop cells already in C_Edge (bitset)

@@ -257,13 +257,20 @@ class Backend {
   // inside the map; repeats allowed), in place of the last scan's. With params.veto_echoes the
   // next Classify() keeps them out of the free mask; Mask() counts them as margin sources.
   virtual void SetEchoes(const std::int32_t* cells, int count) = 0;
+  // The per-scan face layer (polygon.face_tolerance_m; FaceCells()): the cells near a face of
+  // this scan and those its outline touches (row * width + col, inside the map; repeats
+  // allowed), in place of the last scan's. Mask() keeps the near ones out and does not count the
+  // touched ones as margin sources.
+  virtual void SetFaces(const std::int32_t* near, int near_count, const std::int32_t* seen,
+                        int seen_count) = 0;
 
   // Kernel stage 3b, after Classify() (polygon.shape inside): the polygon mask. A cell is in it
   // when it is free in the free mask, or lies within opening_radius (Chebyshev) of the sensor's
-  // cell with log-odds below 0 and no echo of this scan; and no margin source (a cell with
-  // log-odds >= 0: occupied, or never seen free more often than occupied; or an echo of this
-  // scan) lies within margin_cells of it (Chebyshev) in the margin's cone of one of `views`
-  // (InMarginConeOfAny). The sensor's own cell always is.
+  // cell with log-odds below 0 and no echo of this scan; and it is not near a face (SetFaces);
+  // and no margin source (a cell with log-odds >= 0: occupied, or never seen free more often
+  // than occupied; or an echo of this scan; but not a cell the outline touches) lies within
+  // margin_cells of it (Chebyshev) in the margin's cone of one of `views` (InMarginConeOfAny).
+  // The sensor's own cell always is.
   virtual void Mask(const SensorCell& sensor, const MarginViews& views) = 0;
 
   // Kernel stage 4 of the conservative polygon, after Mask(): an exact ray (TraceExactRay) from

@@ -8,6 +8,7 @@
 
 #include "core/backend.hpp"
 #include "core/dbscan.hpp"
+#include "core/face_layer.hpp"
 #include "core/sweep.hpp"
 #include "freespace/config.hpp"
 #include "freespace/result.hpp"
@@ -55,12 +56,17 @@ class Preprocessor {
   // The map cells holding a kept echo (row * width + col), as the last Project() or
   // ProjectRays() found them; echoes outside the map left out.
   const std::vector<std::int32_t>& echo_cells() const { return occupied_; }
+  // polygon.face_tolerance_m: the face layer of the last Project() (FaceCells()); empty when
+  // off.
+  const std::vector<std::int32_t>& face_near_cells() const { return face_near_; }
+  const std::vector<std::int32_t>& face_seen_cells() const { return face_seen_; }
   int bins() const { return bins_; }
 
  private:
   SensorConfig sensor_;
   double resolution_m_;
   bool clear_outline_;  // !sensor_model.free_on_outline (RasterJob::clear_outline)
+  FaceRule face_rule_;  // tolerance 0: no face layer
   double min_angle_;    // radians
   double bin_width_;    // radians
   int bins_;
@@ -78,6 +84,8 @@ class Preprocessor {
   std::vector<std::int32_t> vertices_;
   std::vector<std::int32_t> occupied_;
   std::vector<std::int32_t> ray_ends_;
+  std::vector<std::int32_t> face_near_;
+  std::vector<std::int32_t> face_seen_;
 };
 
 }  // namespace freespace

@@ -58,6 +58,9 @@ class OpenClBackend final : public Backend {
   void Shift(int dx, int dy) override;                                      // shift.cl
   void Clear() override;
   void Finish() override;
+  // The face layer's two bitsets (mask.cl).
+  void SetFaces(const std::int32_t* near, int near_count, const std::int32_t* seen,
+                int seen_count) override;
 
   void ReadLogOdds(LogOdds* dst) override;
   void WriteLogOdds(const LogOdds* src) override;
@@ -124,6 +127,16 @@ class OpenClBackend final : public Backend {
   void BindRaysArgs();       // rays.cpp
   void BindRaysJob();        // rays.cpp
   void SetUpMask();          // mask.cpp: stage 3b's and the exact rays' kernels and buffers
+  // A per-scan bitset of cells the host builds from a list and uploads (mask.cpp).
+  struct CellLayer {
+    opencl::Mem bits;                 // bitset rows on the device
+    std::vector<std::uint64_t> host;  // their staging
+    std::vector<std::int32_t> cells;  // the cells set, to clear them for the next scan
+    RowSpan rows;                     // the rows of `host` with a set bit
+    opencl::Event upload;             // the last upload from `host`
+  };
+  // Replaces the layer's cells with `cells` and uploads the rows that changed.
+  void UploadCells(CellLayer* layer, const std::int32_t* cells, int count);
   // Enqueues the veto (this scan's echoes out of the free mask) on rows `rows`; its event
   // becomes `*end` (mask.cpp).
   void VetoEchoes(RowSpan rows, opencl::Event* end);
@@ -279,15 +292,13 @@ class OpenClBackend final : public Backend {
 
   // Stage 3b and the exact rays (mask.cpp, kernels/mask.cl, insight_exact in insight.cl).
   opencl::Kernel mask_veto_, mask_unconfirmed_, mask_rows_, insight_exact_;
-  opencl::Mem echo_;              // this scan's echo cells, bitset rows (uploaded by SetEchoes)
+  CellLayer echo_;                // this scan's echo cells (SetEchoes)
+  CellLayer face_near_;           // the face layer (SetFaces): near a face
+  CellLayer face_seen_;           // and touched by the outline
   opencl::Mem unconfirmed_bits_;  // the margin's sources: the map's log-odds >= 0, bitset rows
   opencl::Mem mask_;              // the polygon mask, bitset rows
   opencl::Mem exact_stops_;       // the exact rays' stops, 3 ints a label
-  std::vector<std::uint64_t> echo_host_;  // the echo bitset's staging
-  std::vector<std::int32_t> echo_cells_;  // its cells, to clear them for the next scan
-  RowSpan echo_rows_;                     // the rows of echo_host_ with a set bit
-  opencl::Event echo_upload_;             // the last upload from echo_host_
-  RowSpan mask_span_;                     // the rows of mask_ with a set bit
+  RowSpan mask_span_;             // the rows of mask_ with a set bit
   std::vector<std::int32_t> exact_host_;  // the stops as read back
   std::size_t exact_local_ = 1, exact_global_ = 1;
   std::size_t row_local_ = 1;  // the work-group of the kernels with a work-item per row
