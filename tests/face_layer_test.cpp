@@ -86,15 +86,32 @@ TEST(FaceLayer, AnEdgeJoiningTwoSurfacesCountsOnlyAtItsRealEnds) {
   EXPECT_EQ(Cells(seen).size(), 6u);  // the two walls' cells only
 }
 
-TEST(FaceLayer, AShortEdgeToAVirtualPointIsAFace) {
-  // No echo on the second beam: its virtual point lies on the same surface, one cell on, and the
-  // edge between them is a face like any other.
+TEST(FaceLayer, AFewMissingEchoesOnOneSurfaceAreAFace) {
+  // No echo on the second beam, its neighbours two cells apart on one wall: the virtual point
+  // stands on the wall, and the edges through it are faces like any other.
   Outline o;
   o.Add(3.5, 5.5, 1.3);
-  o.Add(4.5, 5.5, 1.4, /*is_virtual=*/true);
+  o.Add(4.5, 5.5, 1.3, /*is_virtual=*/true);
+  o.Add(5.5, 5.5, 1.5);
   std::vector<std::int32_t> near, seen;
   FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
-  EXPECT_EQ(Cells(seen), (std::set<std::pair<int, int>>{{3, 5}, {4, 5}}));
+  EXPECT_EQ(Cells(seen), (std::set<std::pair<int, int>>{{3, 5}, {4, 5}, {5, 5}}));
+}
+
+TEST(FaceLayer, AVirtualRunBetweenFarApartEchoesIsNoFace) {
+  // Three beams without echo between echoes 17 cells apart (open space between two objects),
+  // and two at the end of the scan: their virtual points stand on nothing. The real points
+  // count, and each one's first short edge into the run (its silhouette, one beam on); the rest
+  // of the run does not.
+  Outline o;
+  o.Add(3.5, 5.5, 1.3);
+  for (int k = 1; k <= 3; ++k) o.Add(3.5 + k, 5.5, 1.3, /*is_virtual=*/true);
+  o.Add(20.5, 5.5, 4.1);
+  for (int k = 1; k <= 2; ++k) o.Add(20.5 + k, 5.5, 4.1, /*is_virtual=*/true);
+  std::vector<std::int32_t> near, seen;
+  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
+  EXPECT_EQ(Cells(seen), (std::set<std::pair<int, int>>{{3, 5}, {4, 5}, {20, 5}, {21, 5}}));
+  EXPECT_EQ(Cells(near), Cells(seen));
 }
 
 TEST(FaceLayer, CellsOutsideTheMapAreLeftOut) {

@@ -99,16 +99,34 @@ void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam
     return std::max(u.x, v.x) + t < 0 || std::min(u.x, v.x) - t > width ||
            std::max(u.y, v.y) + t < 0 || std::min(u.y, v.y) - t > height;
   };
-  for (std::size_t i = 0; i + 1 < beams.size(); ++i) {
-    const Beam &p = beams[i], &q = beams[i + 1];
+  // The edge from beam i to i + 1 runs along one surface when the real beams around it lie
+  // within the join distance: its own ends, or those that bound the run of virtual beams it
+  // lies in (a few echoes missing on one surface); or when it leads from a real beam to a virtual
+  // one within that distance (the surface's silhouette, continued by one beam). Otherwise a
+  // virtual run is no face: its points stand at the nearer neighbour's range, on nothing.
+  const std::size_t n = beams.size();
+  std::size_t left = n, right = 0;  // the real beams around the edge; n: none
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    if (!beams[i].is_virtual) left = i;
+    if (right < i + 1) {
+      right = i + 1;
+      while (right < n && beams[right].is_virtual) ++right;
+    }
     const P a = at(i), b = at(i + 1);
-    const double length = std::hypot(b.x - a.x, b.y - a.y);
-    if (length * rule.resolution_m > rule.join_m + rule.join_per_m * std::min(p.range, q.range)) {
-      if (!p.is_virtual && !outside(a, a)) AddPiece(a, a, t, width, height, near, seen);
-      if (!q.is_virtual && !outside(b, b)) AddPiece(b, b, t, width, height, near, seen);
+    const auto within = [&](std::size_t j, std::size_t k) {
+      const P u = at(j), v = at(k);
+      const double span = std::hypot(v.x - u.x, v.y - u.y) * rule.resolution_m;
+      return span <= rule.join_m + rule.join_per_m * std::min(beams[j].range, beams[k].range);
+    };
+    const bool one_real = beams[i].is_virtual != beams[i + 1].is_virtual;
+    const bool face =
+        (left < n && right < n && within(left, right)) || (one_real && within(i, i + 1));
+    if (!face) {
+      if (!beams[i].is_virtual && !outside(a, a)) AddPiece(a, a, t, width, height, near, seen);
+      if (!beams[i + 1].is_virtual && !outside(b, b)) AddPiece(b, b, t, width, height, near, seen);
       continue;
     }
-    const int pieces = std::max(1, int(std::ceil(length)));
+    const int pieces = std::max(1, int(std::ceil(std::hypot(b.x - a.x, b.y - a.y))));
     for (int k = 0; k < pieces; ++k) {
       const P u{a.x + (b.x - a.x) * k / pieces, a.y + (b.y - a.y) * k / pieces};
       const P v{a.x + (b.x - a.x) * (k + 1) / pieces, a.y + (b.y - a.y) * (k + 1) / pieces};

@@ -26,11 +26,13 @@ struct FaceRule {
 };
 
 // From one scan's outline: `vertices` its full-scan polygon's closed ring (fixed point, vertex 0
-// the sensor) and `beams` its vertices 1 .. n (the same count, in order). Appends to `near`
-// every map cell whose square lies within rule.tolerance_m of a face: an outline edge between
-// two consecutive beams that runs along one surface, or a real (not virtual) beam's point at
-// either end of an edge that joins two. Appends to `seen` the cells such a face or point
-// touches. Cells outside the map are left out; repeats allowed.
+// the sensor) and `beams` its vertices 1 .. n (the same count, in order). An edge between two
+// consecutive beams is a face when the real beams around it lie within the join distance: its
+// ends, or, where it meets virtual beams, the real ones that bound their run; or when it leads
+// from a real beam to a virtual one and is that short. Appends to `near` every map cell whose
+// square lies within rule.tolerance_m of a face, or of a real beam's point at either end of an
+// edge that is not one; to `seen` the cells such a face or point touches. Cells outside the map
+// are left out; repeats allowed.
 void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam>& beams,
                const FaceRule& rule, int width, int height, std::vector<std::int32_t>* near,
                std::vector<std::int32_t>* seen);
