@@ -18,11 +18,13 @@ struct Outline {
   std::vector<std::int32_t> vertices = {0, 0};  // vertex 0: the sensor, at the map's corner
   std::vector<Beam> beams;
 
-  // A beam's point at (x, y) cells, `range` metres from the sensor.
-  void Add(double x, double y, double range, bool is_virtual = false) {
+  // A beam's point at (x, y) cells, `range` metres from the sensor; the beams 0.25 deg apart
+  // unless `angle_deg` says.
+  void Add(double x, double y, double range, bool is_virtual = false, double angle_deg = -1) {
     vertices.push_back(std::int32_t(x * kFixedOne));
     vertices.push_back(std::int32_t(y * kFixedOne));
     Beam b;
+    b.angle = float((angle_deg >= 0 ? angle_deg : 0.25 * double(beams.size())) * M_PI / 180.0);
     b.range = float(range);
     b.is_virtual = is_virtual;
     beams.push_back(b);
@@ -31,6 +33,7 @@ struct Outline {
 
 FaceRule Rule() {
   FaceRule rule;
+  rule.max_gap_rad = kMaxGapDeg * M_PI / 180.0;
   rule.tolerance_m = 0.05;  // a quarter of a cell
   rule.join_m = 0.5;        // an edge over 2.5 cells joins two surfaces
   rule.join_per_m = 0.0;
@@ -98,20 +101,36 @@ TEST(FaceLayer, AFewMissingEchoesOnOneSurfaceAreAFace) {
   EXPECT_EQ(Cells(seen), (std::set<std::pair<int, int>>{{3, 5}, {4, 5}, {5, 5}}));
 }
 
-TEST(FaceLayer, AVirtualRunBetweenFarApartEchoesIsNoFace) {
-  // Three beams without echo between echoes 17 cells apart (open space between two objects),
-  // and two at the end of the scan: their virtual points stand on nothing. The real points
-  // count, and each one's first short edge into the run (its silhouette, one beam on); the rest
-  // of the run does not.
+// Three beams without echo between echoes 17 cells apart, then two at the end of the scan.
+Outline RunsOfVirtualBeams(double run_step_deg) {
   Outline o;
-  o.Add(3.5, 5.5, 1.3);
-  for (int k = 1; k <= 3; ++k) o.Add(3.5 + k, 5.5, 1.3, /*is_virtual=*/true);
-  o.Add(20.5, 5.5, 4.1);
-  for (int k = 1; k <= 2; ++k) o.Add(20.5 + k, 5.5, 4.1, /*is_virtual=*/true);
+  o.Add(3.5, 5.5, 1.3, false, 10.0);
+  for (int k = 1; k <= 3; ++k) o.Add(3.5 + k, 5.5, 1.3, true, 10.0 + run_step_deg * k);
+  o.Add(20.5, 5.5, 4.1, false, 10.0 + run_step_deg * 4);
+  for (int k = 1; k <= 2; ++k) o.Add(20.5 + k, 5.5, 4.1, true, 10.0 + run_step_deg * (4 + k));
+  return o;
+}
+
+TEST(FaceLayer, AWideRunWithoutEchoesIsNoFace) {
+  // Runs 10 deg apart (open space between two objects): their virtual points stand on nothing.
+  // The real points count, and each one's first short edge into a run (its silhouette, one beam
+  // on); the rest of the runs does not.
+  const Outline o = RunsOfVirtualBeams(10.0);
   std::vector<std::int32_t> near, seen;
   FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
   EXPECT_EQ(Cells(seen), (std::set<std::pair<int, int>>{{3, 5}, {4, 5}, {20, 5}, {21, 5}}));
   EXPECT_EQ(Cells(near), Cells(seen));
+}
+
+TEST(FaceLayer, ANarrowRunWithoutEchoesIsAGapInTheSurface) {
+  // The same runs 0.5 deg apart, within the gap's 8 deg: each short edge along them is a face;
+  // the long edge to the far echo is not.
+  const Outline o = RunsOfVirtualBeams(0.5);
+  std::vector<std::int32_t> near, seen;
+  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
+  EXPECT_EQ(Cells(seen), (std::set<std::pair<int, int>>{
+                             {3, 5}, {4, 5}, {5, 5}, {6, 5}, {20, 5}, {21, 5}, {22, 5}}));
+  EXPECT_FALSE(Cells(near).count({12, 5}));
 }
 
 TEST(FaceLayer, CellsOutsideTheMapAreLeftOut) {

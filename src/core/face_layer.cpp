@@ -85,6 +85,7 @@ FaceRule FaceRule::Of(const Config& config) {
   rule.join_m = config.clutter.eps_m;
   rule.join_per_m = config.clutter.eps_per_m;
   rule.resolution_m = config.map.resolution_m;
+  rule.max_gap_rad = kMaxGapDeg * M_PI / 180.0;
   return rule;
 }
 
@@ -99,11 +100,11 @@ void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam
     return std::max(u.x, v.x) + t < 0 || std::min(u.x, v.x) - t > width ||
            std::max(u.y, v.y) + t < 0 || std::min(u.y, v.y) - t > height;
   };
-  // The edge from beam i to i + 1 runs along one surface when the real beams around it lie
-  // within the join distance: its own ends, or those that bound the run of virtual beams it
-  // lies in (a few echoes missing on one surface); or when it leads from a real beam to a virtual
-  // one within that distance (the surface's silhouette, continued by one beam). Otherwise a
-  // virtual run is no face: its points stand at the nearer neighbour's range, on nothing.
+  // The edge from beam i to i + 1 is a face when it is no longer than the join distance and,
+  // where it meets virtual beams, their run is a gap in a surface rather than open space: no
+  // wider than rule.max_gap_rad, or bounded by real beams within the join distance, or this is
+  // its first edge from a real beam (the surface's silhouette, continued by one beam). A wider
+  // run's virtual points stand at the nearer neighbour's range, on nothing.
   const std::size_t n = beams.size();
   std::size_t left = n, right = 0;  // the real beams around the edge; n: none
   for (std::size_t i = 0; i + 1 < n; ++i) {
@@ -118,9 +119,12 @@ void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam
       const double span = std::hypot(v.x - u.x, v.y - u.y) * rule.resolution_m;
       return span <= rule.join_m + rule.join_per_m * std::min(beams[j].range, beams[k].range);
     };
+    const bool real = !beams[i].is_virtual && !beams[i + 1].is_virtual;
     const bool one_real = beams[i].is_virtual != beams[i + 1].is_virtual;
-    const bool face =
-        (left < n && right < n && within(left, right)) || (one_real && within(i, i + 1));
+    const std::size_t first = left < n ? left + 1 : 0, last = right < n ? right - 1 : n - 1;
+    const bool gap = beams[last].angle - beams[first].angle <= rule.max_gap_rad ||
+                     (left < n && right < n && within(left, right));
+    const bool face = within(i, i + 1) && (real || one_real || gap);
     if (!face) {
       if (!beams[i].is_virtual && !outside(a, a)) AddPiece(a, a, t, width, height, near, seen);
       if (!beams[i + 1].is_virtual && !outside(b, b)) AddPiece(b, b, t, width, height, near, seen);

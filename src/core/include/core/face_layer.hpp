@@ -20,19 +20,25 @@ struct FaceRule {
   double join_m = 0.0;
   double join_per_m = 0.0;
   double resolution_m = 0.2;
+  // A run of beams without echo no wider than this is a gap in a surface (echoes the clutter
+  // filter took, or a dark or grazing patch), a wider one open space.
+  double max_gap_rad = 0.0;
 
   // The rule `config` sets: tolerance 0 unless polygon.shape is inside.
   static FaceRule Of(const Config& config);
 };
 
+// The widest run of beams without echo that counts as a gap in a surface: 8 degrees.
+inline constexpr double kMaxGapDeg = 8.0;
+
 // From one scan's outline: `vertices` its full-scan polygon's closed ring (fixed point, vertex 0
 // the sensor) and `beams` its vertices 1 .. n (the same count, in order). An edge between two
-// consecutive beams is a face when the real beams around it lie within the join distance: its
-// ends, or, where it meets virtual beams, the real ones that bound their run; or when it leads
-// from a real beam to a virtual one and is that short. Appends to `near` every map cell whose
-// square lies within rule.tolerance_m of a face, or of a real beam's point at either end of an
-// edge that is not one; to `seen` the cells such a face or point touches. Cells outside the map
-// are left out; repeats allowed.
+// consecutive beams is a face when it is no longer than the join distance and, where it meets
+// virtual beams, their run is a gap (no wider than rule.max_gap_rad, or bounded by real beams
+// within the join distance) or this is its first edge from a real beam. Appends to `near` every
+// map cell whose square lies within rule.tolerance_m of a face, or of a real beam's point at
+// either end of an edge that is not one; to `seen` the cells such a face or point touches. Cells
+// outside the map are left out; repeats allowed.
 void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam>& beams,
                const FaceRule& rule, int width, int height, std::vector<std::int32_t>* near,
                std::vector<std::int32_t>* seen);
