@@ -167,6 +167,29 @@ void BM_PreprocessSweep(benchmark::State& state) {
   state.counters["kept"] = double(stats.kept);
 }
 
+// The projection of that scan from a preprocessor of the conservative polygon without the face
+// layer (argument 0) and with it at 0.05 m (1): the difference is FaceCells().
+void BM_ProjectFaces(benchmark::State& state) {
+  auto input = MakeStageInput(300);
+  if (!input) {
+    state.SkipWithError("recorded data not found (set FREESPACE_DATA_DIR)");
+    return;
+  }
+  Config config = input->config;
+  config.polygon.shape = PolygonShape::kInside;
+  config.polygon.face_tolerance_m = state.range(0) == 0 ? 0.0 : 0.05;
+  Preprocessor preprocess(config);
+  ScanStats stats;
+  preprocess.Run(input->scan, &stats);
+  RasterJob job;
+  for (auto _ : state) {
+    preprocess.Project(Vec2(150.4, 150.6), 0.3, 300, 300, &job);
+    benchmark::DoNotOptimize(preprocess.face_near_cells().data());
+  }
+  state.counters["near"] = double(preprocess.face_near_cells().size());
+  state.counters["beams"] = double(preprocess.beams().size());
+}
+
 // Deskew() alone on that scan's 2093 kept echoes and 581 beams (each iteration moves them again).
 void BM_Deskew(benchmark::State& state) {
   auto input = MakeStageInput(300);
@@ -215,6 +238,7 @@ void Sizes(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_Preprocess)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PreprocessSweep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Deskew)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ProjectFaces)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Rasterize)->Apply(Sizes);
 BENCHMARK(BM_RasterizeOutline)->Apply(Sizes);
 BENCHMARK(BM_Fuse)->Apply(Sizes);

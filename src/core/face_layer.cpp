@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "core/exact_ray.hpp"
 #include "core/preprocess.hpp"
@@ -59,19 +60,39 @@ double Dist2SegmentCell(P a, P b, int col, int row) {
   return d;
 }
 
-// The cells within t of the segment a-b (a == b: of a point), into near; those it touches, into
-// seen.
-void AddPiece(P a, P b, double t, int width, int height, std::vector<std::int32_t>* near,
-              std::vector<std::int32_t>* seen) {
+// Where the cells go: the two lists, and the last cells found touched (near and seen already),
+// whose tests the next pieces, which mostly share them, skip.
+struct Sink {
+  std::vector<std::int32_t>* near;
+  std::vector<std::int32_t>* seen;
+  std::int32_t recent[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
+  unsigned next = 0;
+
+  bool Touched(std::int32_t cell) const {
+    return std::find(std::begin(recent), std::end(recent), cell) != std::end(recent);
+  }
+  void Add(std::int32_t cell, bool touched) {
+    near->push_back(cell);
+    if (!touched) return;
+    seen->push_back(cell);
+    recent[next++ % 8] = cell;
+  }
+};
+
+// The cells within t of the segment a-b (a == b: of a point), into the sink's near list; those it
+// touches, into its seen list.
+void AddPiece(P a, P b, double t, int width, int height, Sink* sink) {
   const int c0 = std::max(0, int(std::floor(std::min(a.x, b.x) - t)));
   const int c1 = std::min(width - 1, int(std::floor(std::max(a.x, b.x) + t)));
   const int r0 = std::max(0, int(std::floor(std::min(a.y, b.y) - t)));
   const int r1 = std::min(height - 1, int(std::floor(std::max(a.y, b.y) + t)));
+  const bool point = a.x == b.x && a.y == b.y;
   for (int r = r0; r <= r1; ++r) {
     for (int c = c0; c <= c1; ++c) {
-      const double d2 = Dist2SegmentCell(a, b, c, r);
-      if (d2 <= t * t) near->push_back(r * width + c);
-      if (d2 == 0) seen->push_back(r * width + c);
+      const std::int32_t cell = r * width + c;
+      if (sink->Touched(cell)) continue;
+      const double d2 = point ? Dist2PointCell(a, c, r) : Dist2SegmentCell(a, b, c, r);
+      if (d2 <= t * t) sink->Add(cell, d2 == 0);
     }
   }
 }
@@ -105,8 +126,10 @@ void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam
   // wider than rule.max_gap_rad, or bounded by real beams within the join distance, or this is
   // its first edge from a real beam (the surface's silhouette, continued by one beam). A wider
   // run's virtual points stand at the nearer neighbour's range, on nothing.
+  Sink sink{near, seen};
   const std::size_t n = beams.size();
   std::size_t left = n, right = 0;  // the real beams around the edge; n: none
+  std::size_t last_point = n;       // the last beam added as a point
   for (std::size_t i = 0; i + 1 < n; ++i) {
     if (!beams[i].is_virtual) left = i;
     if (right < i + 1) {
@@ -114,27 +137,33 @@ void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam
       while (right < n && beams[right].is_virtual) ++right;
     }
     const P a = at(i), b = at(i + 1);
-    const auto within = [&](std::size_t j, std::size_t k) {
-      const P u = at(j), v = at(k);
-      const double span = std::hypot(v.x - u.x, v.y - u.y) * rule.resolution_m;
-      return span <= rule.join_m + rule.join_per_m * std::min(beams[j].range, beams[k].range);
+    const auto within = [&](std::size_t j, std::size_t k, double cells) {
+      const double join = rule.join_m + rule.join_per_m * std::min(beams[j].range, beams[k].range);
+      return cells * rule.resolution_m <= join;
     };
-    const bool real = !beams[i].is_virtual && !beams[i + 1].is_virtual;
-    const bool one_real = beams[i].is_virtual != beams[i + 1].is_virtual;
-    const std::size_t first = left < n ? left + 1 : 0, last = right < n ? right - 1 : n - 1;
-    const bool gap = beams[last].angle - beams[first].angle <= rule.max_gap_rad ||
-                     (left < n && right < n && within(left, right));
-    const bool face = within(i, i + 1) && (real || one_real || gap);
-    if (!face) {
-      if (!beams[i].is_virtual && !outside(a, a)) AddPiece(a, a, t, width, height, near, seen);
-      if (!beams[i + 1].is_virtual && !outside(b, b)) AddPiece(b, b, t, width, height, near, seen);
+    const double length = std::sqrt((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y));
+    bool face = within(i, i + 1, length);
+    if (face && beams[i].is_virtual && beams[i + 1].is_virtual) {  // inside a run
+      const std::size_t first = left < n ? left + 1 : 0, last = right < n ? right - 1 : n - 1;
+      face = beams[last].angle - beams[first].angle <= rule.max_gap_rad;
+      if (!face && left < n && right < n) {
+        const P l = at(left), r = at(right);
+        face =
+            within(left, right, std::sqrt((r.x - l.x) * (r.x - l.x) + (r.y - l.y) * (r.y - l.y)));
+      }
+    }
+    if (!face) {  // its real ends, each once
+      if (!beams[i].is_virtual && last_point != i && !outside(a, a))
+        AddPiece(a, a, t, width, height, &sink);
+      if (!beams[i + 1].is_virtual && !outside(b, b)) AddPiece(b, b, t, width, height, &sink);
+      last_point = i + 1;
       continue;
     }
-    const int pieces = std::max(1, int(std::ceil(std::hypot(b.x - a.x, b.y - a.y))));
+    const int pieces = std::max(1, int(std::ceil(length)));
     for (int k = 0; k < pieces; ++k) {
       const P u{a.x + (b.x - a.x) * k / pieces, a.y + (b.y - a.y) * k / pieces};
       const P v{a.x + (b.x - a.x) * (k + 1) / pieces, a.y + (b.y - a.y) * (k + 1) / pieces};
-      if (!outside(u, v)) AddPiece(u, v, t, width, height, near, seen);
+      if (!outside(u, v)) AddPiece(u, v, t, width, height, &sink);
     }
   }
 }
