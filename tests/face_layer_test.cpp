@@ -3,6 +3,7 @@
 #include "core/face_layer.hpp"
 
 #include <algorithm>
+#include <random>
 #include <set>
 
 #include "core/fixed_point.hpp"
@@ -142,6 +143,30 @@ TEST(FaceLayer, CellsOutsideTheMapAreLeftOut) {
   EXPECT_FALSE(seen.empty());
   Cells(near);  // every index inside the map
   Cells(seen);
+}
+
+TEST(FaceLayer, InPartsTheSameCells) {
+  // A long random outline (walls, jumps, runs without echo) worked whole and in 1, 3 and 7 parts
+  // in parallel: the same cells.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> step(-0.6, 0.6);
+  Outline o;
+  double x = 15, y = 15;
+  for (int k = 0; k < 900; ++k) {
+    x = std::clamp(x + step(rng) * (k % 37 == 0 ? 12 : 1), -3.0, 33.0);
+    y = std::clamp(y + step(rng) * (k % 41 == 0 ? 12 : 1), -3.0, 33.0);
+    o.Add(x, y, 0.2 * std::hypot(x, y), rng() % 5 == 0);
+  }
+  std::vector<std::int32_t> near, seen;
+  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
+  ASSERT_GT(Cells(near).size(), 100u);
+  for (const int count : {1, 3, 7}) {
+    std::vector<FaceLists> parts(count);
+    std::vector<std::int32_t> part_near, part_seen;
+    FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &parts, &part_near, &part_seen);
+    EXPECT_EQ(Cells(part_near), Cells(near)) << count << " parts";
+    EXPECT_EQ(Cells(part_seen), Cells(seen)) << count << " parts";
+  }
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 // [c, c + 1] x [r, r + 1]).
 #include "core/face_layer.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <iterator>
@@ -97,6 +99,93 @@ void AddPiece(P a, P b, double t, int width, int height, Sink* sink) {
   }
 }
 
+// The faces of edges [begin, end) of one outline (FaceCells()), into a sink.
+class FaceWalker {
+ public:
+  FaceWalker(const std::vector<std::int32_t>& vertices, const std::vector<Beam>& beams,
+             const FaceRule& rule, int width, int height)
+      : vertices_(vertices),
+        beams_(beams),
+        rule_(rule),
+        t_(rule.tolerance_m / rule.resolution_m),
+        width_(width),
+        height_(height) {}
+
+  void Walk(std::size_t begin, std::size_t end, Sink* sink) const {
+    const std::size_t n = beams_.size();
+    std::size_t left = n, right = 0;  // the real beams around the edge; n: none
+    for (std::size_t j = begin; j-- > 0;) {
+      if (!beams_[j].is_virtual) {
+        left = j;
+        break;
+      }
+    }
+    std::size_t last_point = n;  // the last beam added as a point
+    for (std::size_t i = begin; i < end; ++i) {
+      if (!beams_[i].is_virtual) left = i;
+      if (right < i + 1) {
+        right = i + 1;
+        while (right < n && beams_[right].is_virtual) ++right;
+      }
+      const P a = At(i), b = At(i + 1);
+      const double length = Distance(a, b);
+      if (!IsFace(i, length, left, right)) {  // its real ends, each once
+        if (!beams_[i].is_virtual && last_point != i) AddPoint(a, sink);
+        if (!beams_[i + 1].is_virtual) AddPoint(b, sink);
+        last_point = i + 1;
+        continue;
+      }
+      const int pieces = std::max(1, int(std::ceil(length)));
+      for (int k = 0; k < pieces; ++k) {
+        const P u{a.x + (b.x - a.x) * k / pieces, a.y + (b.y - a.y) * k / pieces};
+        const P v{a.x + (b.x - a.x) * (k + 1) / pieces, a.y + (b.y - a.y) * (k + 1) / pieces};
+        if (!Outside(u, v)) AddPiece(u, v, t_, width_, height_, sink);
+      }
+    }
+  }
+
+ private:
+  P At(std::size_t i) const {  // beam i's point, in cells
+    return P{double(vertices_[2 * i + 2]) / kFixedOne, double(vertices_[2 * i + 3]) / kFixedOne};
+  }
+  static double Distance(P u, P v) {
+    return std::sqrt((v.x - u.x) * (v.x - u.x) + (v.y - u.y) * (v.y - u.y));
+  }
+  bool Outside(P u, P v) const {
+    return std::max(u.x, v.x) + t_ < 0 || std::min(u.x, v.x) - t_ > width_ ||
+           std::max(u.y, v.y) + t_ < 0 || std::min(u.y, v.y) - t_ > height_;
+  }
+  void AddPoint(P a, Sink* sink) const {
+    if (!Outside(a, a)) AddPiece(a, a, t_, width_, height_, sink);
+  }
+  // Whether `cells` between beams j and k is within the join distance.
+  bool Within(std::size_t j, std::size_t k, double cells) const {
+    const double join =
+        rule_.join_m + rule_.join_per_m * std::min(beams_[j].range, beams_[k].range);
+    return cells * rule_.resolution_m <= join;
+  }
+  // The edge from beam i to i + 1 (`length` cells; `left`, `right` the real beams around it) is a
+  // face when it is no longer than the join distance and, where it meets virtual beams, their
+  // run is a gap in a surface rather than open space: no wider than rule.max_gap_rad, or bounded
+  // by real beams within the join distance, or this is its first edge from a real beam (the
+  // surface's silhouette, continued by one beam). A wider run's virtual points stand at the
+  // nearer neighbour's range, on nothing.
+  bool IsFace(std::size_t i, double length, std::size_t left, std::size_t right) const {
+    if (!Within(i, i + 1, length)) return false;
+    if (!beams_[i].is_virtual || !beams_[i + 1].is_virtual) return true;
+    const std::size_t n = beams_.size();
+    const std::size_t first = left < n ? left + 1 : 0, last = right < n ? right - 1 : n - 1;
+    if (beams_[last].angle - beams_[first].angle <= rule_.max_gap_rad) return true;
+    return left < n && right < n && Within(left, right, Distance(At(left), At(right)));
+  }
+
+  const std::vector<std::int32_t>& vertices_;
+  const std::vector<Beam>& beams_;
+  const FaceRule& rule_;
+  const double t_;
+  const int width_, height_;
+};
+
 }  // namespace
 
 FaceRule FaceRule::Of(const Config& config) {
@@ -113,58 +202,27 @@ FaceRule FaceRule::Of(const Config& config) {
 void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam>& beams,
                const FaceRule& rule, int width, int height, std::vector<std::int32_t>* near,
                std::vector<std::int32_t>* seen) {
-  const double t = rule.tolerance_m / rule.resolution_m;
-  const auto at = [&](std::size_t i) {  // beam i's point, in cells
-    return P{double(vertices[2 * i + 2]) / kFixedOne, double(vertices[2 * i + 3]) / kFixedOne};
-  };
-  const auto outside = [&](P u, P v) {
-    return std::max(u.x, v.x) + t < 0 || std::min(u.x, v.x) - t > width ||
-           std::max(u.y, v.y) + t < 0 || std::min(u.y, v.y) - t > height;
-  };
-  // The edge from beam i to i + 1 is a face when it is no longer than the join distance and,
-  // where it meets virtual beams, their run is a gap in a surface rather than open space: no
-  // wider than rule.max_gap_rad, or bounded by real beams within the join distance, or this is
-  // its first edge from a real beam (the surface's silhouette, continued by one beam). A wider
-  // run's virtual points stand at the nearer neighbour's range, on nothing.
   Sink sink{near, seen};
-  const std::size_t n = beams.size();
-  std::size_t left = n, right = 0;  // the real beams around the edge; n: none
-  std::size_t last_point = n;       // the last beam added as a point
-  for (std::size_t i = 0; i + 1 < n; ++i) {
-    if (!beams[i].is_virtual) left = i;
-    if (right < i + 1) {
-      right = i + 1;
-      while (right < n && beams[right].is_virtual) ++right;
-    }
-    const P a = at(i), b = at(i + 1);
-    const auto within = [&](std::size_t j, std::size_t k, double cells) {
-      const double join = rule.join_m + rule.join_per_m * std::min(beams[j].range, beams[k].range);
-      return cells * rule.resolution_m <= join;
-    };
-    const double length = std::sqrt((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y));
-    bool face = within(i, i + 1, length);
-    if (face && beams[i].is_virtual && beams[i + 1].is_virtual) {  // inside a run
-      const std::size_t first = left < n ? left + 1 : 0, last = right < n ? right - 1 : n - 1;
-      face = beams[last].angle - beams[first].angle <= rule.max_gap_rad;
-      if (!face && left < n && right < n) {
-        const P l = at(left), r = at(right);
-        face =
-            within(left, right, std::sqrt((r.x - l.x) * (r.x - l.x) + (r.y - l.y) * (r.y - l.y)));
-      }
-    }
-    if (!face) {  // its real ends, each once
-      if (!beams[i].is_virtual && last_point != i && !outside(a, a))
-        AddPiece(a, a, t, width, height, &sink);
-      if (!beams[i + 1].is_virtual && !outside(b, b)) AddPiece(b, b, t, width, height, &sink);
-      last_point = i + 1;
-      continue;
-    }
-    const int pieces = std::max(1, int(std::ceil(length)));
-    for (int k = 0; k < pieces; ++k) {
-      const P u{a.x + (b.x - a.x) * k / pieces, a.y + (b.y - a.y) * k / pieces};
-      const P v{a.x + (b.x - a.x) * (k + 1) / pieces, a.y + (b.y - a.y) * (k + 1) / pieces};
-      if (!outside(u, v)) AddPiece(u, v, t, width, height, &sink);
-    }
+  if (beams.size() > 1)
+    FaceWalker(vertices, beams, rule, width, height).Walk(0, beams.size() - 1, &sink);
+}
+
+void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam>& beams,
+               const FaceRule& rule, int width, int height, std::vector<FaceLists>* parts,
+               std::vector<std::int32_t>* near, std::vector<std::int32_t>* seen) {
+  const std::size_t edges = beams.size() > 1 ? beams.size() - 1 : 0;
+  const std::size_t count = parts->size();
+  const FaceWalker walker(vertices, beams, rule, width, height);
+  tbb::parallel_for(std::size_t{0}, count, [&](std::size_t k) {
+    FaceLists& part = (*parts)[k];
+    part.near.clear();
+    part.seen.clear();
+    Sink sink{&part.near, &part.seen};
+    walker.Walk(edges * k / count, edges * (k + 1) / count, &sink);
+  });
+  for (const FaceLists& part : *parts) {
+    near->insert(near->end(), part.near.begin(), part.near.end());
+    seen->insert(seen->end(), part.seen.begin(), part.seen.end());
   }
 }
 

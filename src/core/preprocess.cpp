@@ -26,6 +26,8 @@ Preprocessor::Preprocessor(const Config& config)
       bins_(BinCount(config.sensor)),
       clutter_(config.clutter, BinCount(config.sensor),
                config.sensor.angular_resolution_deg * kDegToRad, config.backend.threads) {
+  // The face layer in four parts in parallel when the backend may take every core, else in one.
+  face_parts_.resize(config.backend.threads == 0 ? 4 : 1);
   const std::size_t expected = std::size_t(bins_) * sensor_.layers;
   echoes_.reserve(expected);
   keep_.reserve(expected);
@@ -199,7 +201,7 @@ void Preprocessor::Project(const Vec2& sensor_cells, double yaw, int width, int 
   face_near_.clear();
   face_seen_.clear();
   if (face_rule_.tolerance_m > 0)
-    FaceCells(vertices_, beams_, face_rule_, width, height, &face_near_, &face_seen_);
+    FaceCells(vertices_, beams_, face_rule_, width, height, &face_parts_, &face_near_, &face_seen_);
 }
 
 void Preprocessor::ProjectRays(const Vec2& sensor_cells, double yaw, int width, int height,

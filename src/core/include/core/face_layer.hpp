@@ -43,4 +43,15 @@ void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam
                const FaceRule& rule, int width, int height, std::vector<std::int32_t>* near,
                std::vector<std::int32_t>* seen);
 
+// One part's lists of FaceCells() in parallel.
+struct FaceLists {
+  std::vector<std::int32_t> near, seen;
+};
+
+// The same, the edges split into parts->size() runs worked in parallel (TBB), each into its part
+// (cleared first), then appended to `near` and `seen` in order: the same cells.
+void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam>& beams,
+               const FaceRule& rule, int width, int height, std::vector<FaceLists>* parts,
+               std::vector<std::int32_t>* near, std::vector<std::int32_t>* seen);
+
 }  // namespace freespace

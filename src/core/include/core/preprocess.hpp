@@ -86,6 +86,7 @@ class Preprocessor {
   std::vector<std::int32_t> ray_ends_;
   std::vector<std::int32_t> face_near_;
   std::vector<std::int32_t> face_seen_;
+  std::vector<FaceLists> face_parts_;  // FaceCells() in parallel
 };
 
 }  // namespace freespace
