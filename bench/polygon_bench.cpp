@@ -14,8 +14,8 @@ namespace freespace::bench {
 namespace {
 
 constexpr const char* kScenarios[] = {"urban", "highway", "parking"};
-constexpr int kScans = 400;   // of each drive
-constexpr int kWarmUp = 25;   // untimed scans at the start of each pass
+constexpr int kScans = 400;  // of each drive
+constexpr int kWarmUp = 25;  // untimed scans at the start of each pass
 
 // The first kScans scans of a scenario's drive (seed 1), simulated once.
 const std::vector<Scan>& DriveScans(int scenario, SensorConfig* sensor) {
@@ -44,11 +44,11 @@ void RunDrive(benchmark::State& state, bool polygon_only) {
   if (state.range(0) == 0) {
     config.polygon.shape = PolygonShape::kPaper;
     config.polygon.margin_cells = 0;
+    config.polygon.face_tolerance_m = 0.0;
   }
   Estimator estimator(config);
-  state.SetLabel(std::string(kScenarios[state.range(1)]) + " " +
-                 ToString(config.polygon.shape) + " " + std::to_string(state.range(2)) + "x" +
-                 std::to_string(state.range(2)));
+  state.SetLabel(std::string(kScenarios[state.range(1)]) + " " + ToString(config.polygon.shape) +
+                 " " + std::to_string(state.range(2)) + "x" + std::to_string(state.range(2)));
   std::size_t next = 0;
   double mask = 0.0, insight = 0.0;
   for (auto _ : state) {

@@ -50,17 +50,18 @@ double MedianMs(std::vector<double> v) { return Quantile(v, 0.5) / 1000.0; }
 // The engine config the demo runs without --config: the defaults with the sensor model's
 // outline rule (no free update where the scan's outline touches a cell) and the polygon of
 // configs/scala.yaml, the conservative shape with a one-cell margin in front of occupied cells
-// and unknown cells (45 degree cone), N = 128 and epsilon 0.12 m, which keeps the static
-// world's intrusion within the aims (docs/metrics.md); the paper's shape covers about half of
-// every obstacle cell along its border, and without the margin the map's sliver cells put the
-// conservative polygon's intrusion at several cells a scan.
+// and unknown cells (10 degree cone) and the face layer (0.05 m), N = 128 and epsilon 0.12 m,
+// which keeps the static world's intrusion within the aims (docs/metrics.md); the paper's shape
+// covers about half of every obstacle cell along its border, and without the margin the map's
+// sliver cells put the conservative polygon's intrusion at several cells a scan.
 Config RoadConfig() {
   Config config;
   config.polygon.shape = PolygonShape::kInside;
   config.polygon.max_vertices = 128;
   config.polygon.epsilon_m = 0.12;
   config.polygon.margin_cells = 1;
-  config.polygon.margin_cone_deg = 45.0;
+  config.polygon.margin_cone_deg = 10.0;
+  config.polygon.face_tolerance_m = 0.05;
   config.sensor_model.free_on_outline = false;
   return config;
 }

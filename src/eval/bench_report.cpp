@@ -88,10 +88,12 @@ void ComparePolygonShapes(const Config& config, const BenchSource& source,
   paper.backend.kind = inside.backend.kind = BackendKind::kTbb;
   paper.polygon.shape = PolygonShape::kPaper;
   paper.polygon.margin_cells = 0;
+  paper.polygon.face_tolerance_m = 0.0;
   inside.polygon.shape = PolygonShape::kInside;
   if (config.polygon.shape != PolygonShape::kInside) {
     inside.polygon.margin_cells = 1;
-    inside.polygon.margin_cone_deg = 45.0;
+    inside.polygon.margin_cone_deg = 10.0;
+    inside.polygon.face_tolerance_m = 0.05;
   }
   report->paper_shape = TimePipeline(paper, source.scans, options.warmup);
   report->inside_shape = TimePipeline(inside, source.scans, options.warmup);
