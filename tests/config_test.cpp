@@ -178,6 +178,9 @@ TEST(Config, PolygonMarginIsValidatedAndKept) {
             std::string::npos);
   const std::string faces = ErrorOf("polygon:\n  face_tolerance_m: 0.05\n");
   EXPECT_NE(faces.find("polygon.shape inside"), std::string::npos) << faces;
+  const std::string rays =
+      ErrorOf(inside + "  face_tolerance_m: 0.05\nsensor_model:\n  kind: conventional\n");
+  EXPECT_NE(rays.find("sensor_model.kind enhanced"), std::string::npos) << rays;
   Config c;
   c.polygon.shape = PolygonShape::kInside;
   c.polygon.margin_cells = 3;

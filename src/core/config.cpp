@@ -93,9 +93,13 @@ const Relation kRelations[] = {
        return c.polygon.margin_cells == 0 || c.polygon.shape == PolygonShape::kInside;
      },
      nullptr},
-    {"polygon.face_tolerance_m", "needs polygon.shape inside (0 with the paper's polygon)",
+    {"polygon.face_tolerance_m",
+     "needs polygon.shape inside and sensor_model.kind enhanced (0 with the paper's polygon or "
+     "the conventional model, which draws no outline)",
      [](const Config& c) {
-       return c.polygon.face_tolerance_m == 0 || c.polygon.shape == PolygonShape::kInside;
+       return c.polygon.face_tolerance_m == 0 ||
+              (c.polygon.shape == PolygonShape::kInside &&
+               c.sensor_model.kind == SensorModelKind::kEnhanced);
      },
      nullptr},
 };

@@ -65,9 +65,10 @@ void CompareSensorModels(const Config& config, const BenchSource& source,
   enhanced.sensor_model.kind = SensorModelKind::kEnhanced;
   conventional.sensor_model.kind = SensorModelKind::kConventional;
   // The paper's two models as the paper has them: the enhanced one updates free every cell
-  // whose centre its polygon covers (the conventional one draws no outline), and every point is
-  // placed from the scan's one pose.
+  // whose centre its polygon covers (the conventional one draws no outline, so neither has the
+  // face layer), and every point is placed from the scan's one pose.
   enhanced.sensor_model.free_on_outline = conventional.sensor_model.free_on_outline = true;
+  enhanced.polygon.face_tolerance_m = conventional.polygon.face_tolerance_m = 0.0;
   enhanced.sensor.sweep_s = conventional.sensor.sweep_s = 0.0;
   report->enhanced = TimePipeline(enhanced, source.scans, options.warmup);
   report->conventional = TimePipeline(conventional, source.scans, options.warmup);
@@ -158,6 +159,8 @@ void ScalePointsPerScan(const Config& config, std::size_t scan_count, int warmup
         c.sensor_model.kind = model;
         c.sensor_model.free_on_outline =
             config.sensor_model.free_on_outline || model == SensorModelKind::kConventional;
+        if (model == SensorModelKind::kConventional)
+          c.polygon.face_tolerance_m = 0.0;  // no outline
         const PipelineRun r = TimePipeline(c, sweep_run, warmup);
         out->points.push_back({ToString(pipeline->kind), ToString(model), points, 0,
                                sensor.angular_resolution_deg, TotalUs(r), ModelUs(r)});
