@@ -64,8 +64,8 @@ bool MaskInCone(int sensor_x, int sensor_y, int col, int row, int dx, int dy) {
 
 // MaskInCone() from any of the margin's views (InMarginConeOfAny() of
 // src/core/include/core/backend.hpp).
-bool MaskInConeOfAny(const int* view_x, const int* view_y, int view_count, int col, int row,
-                     int dx, int dy) {
+bool MaskInConeOfAny(const int* view_x, const int* view_y, int view_count, int col, int row, int dx,
+                     int dy) {
 #if MARGIN_ALL
   return true;
 #endif
@@ -90,8 +90,8 @@ void MaskMargin(__global const ulong* unconfirmed, __global const ulong* echo,
       if (dx == 0 && dy == 0) continue;
       for (int w = 0; w < BIT_WORDS; ++w) {
         const int at = w * 64 + dx;
-        ulong candidates = out[w] & ~kill[w] & (MaskBits64(occ, at) | MaskBits64(ech, at)) &
-                           ~MaskBits64(see, at);
+        ulong candidates =
+            out[w] & ~kill[w] & (MaskBits64(occ, at) | MaskBits64(ech, at)) & ~MaskBits64(see, at);
         while (candidates != 0) {
           const int bit = 63 - (int)clz(candidates & (~candidates + 1UL));
           candidates &= candidates - 1;
