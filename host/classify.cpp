@@ -239,14 +239,7 @@ void HostBackend::Classify() {
 }
 
 void HostBackend::SetEchoes(const std::int32_t* cells, int count) {
-  const int width = params_.width, nw = words();
-  // Each old echo's word to 0 clears every old bit (all of them are echoes).
-  for (const std::int32_t c : echo_cells_)
-    echo_[std::size_t(c / width) * nw + (c % width) / 64] = 0;
-  echo_cells_.assign(cells, cells + count);
-  for (const std::int32_t c : echo_cells_) {
-    echo_[std::size_t(c / width) * nw + (c % width) / 64] |= std::uint64_t{1} << ((c % width) % 64);
-  }
+  host::SetCellBits(cells, count, params_.width, words(), &echo_cells_, &echo_);
 }
 
 }  // namespace freespace

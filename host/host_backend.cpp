@@ -107,4 +107,19 @@ void HostBackend::WriteFree(const std::uint8_t* src) {
   }
 }
 
+namespace host {
+
+void SetCellBits(const std::int32_t* cells, int count, int width, int words,
+                 std::vector<std::int32_t>* held, std::vector<std::uint64_t>* bits) {
+  const auto word = [&](std::int32_t c) {
+    return std::size_t(c / width) * words + (c % width) / 64;
+  };
+  // Each old cell's word to 0 clears every old bit (all of them are this layer's).
+  for (const std::int32_t c : *held) (*bits)[word(c)] = 0;
+  held->assign(cells, cells + count);
+  for (const std::int32_t c : *held) (*bits)[word(c)] |= std::uint64_t{1} << ((c % width) % 64);
+}
+
+}  // namespace host
+
 }  // namespace freespace

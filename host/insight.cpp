@@ -107,15 +107,14 @@ void HostBackend::InSightExact(const SensorCell& sensor, std::vector<RayStop>* s
   std::int32_t* stop = stop_.data();
   RayStop* out = stops->data();
   arena_.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, labels, 32),
-                      [&](const tbb::blocked_range<int>& range) {
-                        for (int l = range.begin(); l != range.end(); ++l) {
-                          const CellIndex target = BorderCell(l, height, width);
-                          out[l] = TraceExactRayRows(rows, nw, width, sensor, target.col,
-                                                     target.row);
-                          stop[l] = out[l].cell;
-                        }
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, labels, 32), [&](const tbb::blocked_range<int>& range) {
+          for (int l = range.begin(); l != range.end(); ++l) {
+            const CellIndex target = BorderCell(l, height, width);
+            out[l] = TraceExactRayRows(rows, nw, width, sensor, target.col, target.row);
+            stop[l] = out[l].cell;
+          }
+        });
   });
   CollectEdges(stop, labels, width, edge_seen_.data(), edges);
 }

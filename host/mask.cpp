@@ -113,15 +113,8 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
 
 void HostBackend::SetFaces(const std::int32_t* near, int near_count, const std::int32_t* seen,
                            int seen_count) {
-  const int width = params_.width, nw = words();
-  const auto word = [&](std::int32_t c) { return std::size_t(c / width) * nw + (c % width) / 64; };
-  const auto bit = [&](std::int32_t c) { return std::uint64_t{1} << ((c % width) % 64); };
-  // Each old cell's word to 0 clears every old bit.
-  for (const std::int32_t c : face_cells_) face_near_[word(c)] = face_seen_[word(c)] = 0;
-  face_cells_.assign(near, near + near_count);
-  face_cells_.insert(face_cells_.end(), seen, seen + seen_count);
-  for (int i = 0; i < near_count; ++i) face_near_[word(near[i])] |= bit(near[i]);
-  for (int i = 0; i < seen_count; ++i) face_seen_[word(seen[i])] |= bit(seen[i]);
+  host::SetCellBits(near, near_count, params_.width, words(), &face_near_cells_, &face_near_);
+  host::SetCellBits(seen, seen_count, params_.width, words(), &face_seen_cells_, &face_seen_);
 }
 
 }  // namespace freespace

@@ -42,6 +42,13 @@ FaceRule Rule() {
   return rule;
 }
 
+// FaceCells() of `o` in `parts` parts.
+void Faces(const Outline& o, std::vector<std::int32_t>* near, std::vector<std::int32_t>* seen,
+           int parts = 1) {
+  std::vector<FaceLists> lists(parts);
+  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &lists, near, seen);
+}
+
 std::set<std::pair<int, int>> Cells(const std::vector<std::int32_t>& list) {
   std::set<std::pair<int, int>> cells;
   for (const std::int32_t i : list) {
@@ -58,7 +65,7 @@ TEST(FaceLayer, ACellIsNearAFaceWithinTheTolerance) {
   Outline o;
   for (int k = 0; k <= 6; ++k) o.Add(2.5 + k, 10.1, 3.0);
   std::vector<std::int32_t> near, seen;
-  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
+  Faces(o, &near, &seen);
   std::set<std::pair<int, int>> want_seen, want_near;
   for (int c = 2; c <= 8; ++c) {
     want_seen.insert({c, 10});
@@ -80,7 +87,7 @@ TEST(FaceLayer, AnEdgeJoiningTwoSurfacesCountsOnlyAtItsRealEnds) {
   o.Add(17.5, 15.5, 4.6);
   o.Add(27.5, 25.5, 7.4, /*is_virtual=*/true);
   std::vector<std::int32_t> near, seen;
-  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
+  Faces(o, &near, &seen);
   const std::set<std::pair<int, int>> cells = Cells(near);
   for (int c = 3; c <= 5; ++c) EXPECT_TRUE(cells.count({c, 5})) << c;
   for (int c = 15; c <= 17; ++c) EXPECT_TRUE(cells.count({c, 15})) << c;
@@ -98,7 +105,7 @@ TEST(FaceLayer, AFewMissingEchoesOnOneSurfaceAreAFace) {
   o.Add(4.5, 5.5, 1.3, /*is_virtual=*/true);
   o.Add(5.5, 5.5, 1.5);
   std::vector<std::int32_t> near, seen;
-  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
+  Faces(o, &near, &seen);
   EXPECT_EQ(Cells(seen), (std::set<std::pair<int, int>>{{3, 5}, {4, 5}, {5, 5}}));
 }
 
@@ -118,7 +125,7 @@ TEST(FaceLayer, AWideRunWithoutEchoesIsNoFace) {
   // on); the rest of the runs does not.
   const Outline o = RunsOfVirtualBeams(10.0);
   std::vector<std::int32_t> near, seen;
-  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
+  Faces(o, &near, &seen);
   EXPECT_EQ(Cells(seen), (std::set<std::pair<int, int>>{{3, 5}, {4, 5}, {20, 5}, {21, 5}}));
   EXPECT_EQ(Cells(near), Cells(seen));
 }
@@ -128,7 +135,7 @@ TEST(FaceLayer, ANarrowRunWithoutEchoesIsAGapInTheSurface) {
   // the long edge to the far echo is not.
   const Outline o = RunsOfVirtualBeams(0.5);
   std::vector<std::int32_t> near, seen;
-  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
+  Faces(o, &near, &seen);
   EXPECT_EQ(Cells(seen), (std::set<std::pair<int, int>>{
                              {3, 5}, {4, 5}, {5, 5}, {6, 5}, {20, 5}, {21, 5}, {22, 5}}));
   EXPECT_FALSE(Cells(near).count({12, 5}));
@@ -139,14 +146,14 @@ TEST(FaceLayer, CellsOutsideTheMapAreLeftOut) {
   Outline o;
   for (int k = -6; k <= 6; ++k) o.Add(-3.0 + 0.5 * k + 3, 0.25 * k + 1.0, 2.0);
   std::vector<std::int32_t> near, seen;
-  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
+  Faces(o, &near, &seen);
   EXPECT_FALSE(seen.empty());
   Cells(near);  // every index inside the map
   Cells(seen);
 }
 
 TEST(FaceLayer, InPartsTheSameCells) {
-  // A long random outline (walls, jumps, runs without echo) worked whole and in 1, 3 and 7 parts
+  // A long random outline (walls, jumps, runs without echo) worked whole and in 3 and 7 parts
   // in parallel: the same cells.
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> step(-0.6, 0.6);
@@ -158,12 +165,11 @@ TEST(FaceLayer, InPartsTheSameCells) {
     o.Add(x, y, 0.2 * std::hypot(x, y), rng() % 5 == 0);
   }
   std::vector<std::int32_t> near, seen;
-  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &near, &seen);
+  Faces(o, &near, &seen);
   ASSERT_GT(Cells(near).size(), 100u);
-  for (const int count : {1, 3, 7}) {
-    std::vector<FaceLists> parts(count);
+  for (const int count : {3, 7}) {
     std::vector<std::int32_t> part_near, part_seen;
-    FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &parts, &part_near, &part_seen);
+    Faces(o, &part_near, &part_seen, count);
     EXPECT_EQ(Cells(part_near), Cells(near)) << count << " parts";
     EXPECT_EQ(Cells(part_seen), Cells(seen)) << count << " parts";
   }

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <iterator>
 
-#include "core/exact_ray.hpp"
+#include "core/fixed_point.hpp"
 #include "core/preprocess.hpp"
 
 namespace freespace {
@@ -197,14 +197,6 @@ FaceRule FaceRule::Of(const Config& config) {
   rule.resolution_m = config.map.resolution_m;
   rule.max_gap_rad = kMaxGapDeg * M_PI / 180.0;
   return rule;
-}
-
-void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam>& beams,
-               const FaceRule& rule, int width, int height, std::vector<std::int32_t>* near,
-               std::vector<std::int32_t>* seen) {
-  Sink sink{near, seen};
-  if (beams.size() > 1)
-    FaceWalker(vertices, beams, rule, width, height).Walk(0, beams.size() - 1, &sink);
 }
 
 void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam>& beams,

@@ -80,18 +80,24 @@ class HostBackend final : public Backend {
   std::vector<std::uint64_t> echo_;       // this scan's echo cells (SetEchoes), bitset rows
   std::vector<std::int32_t> echo_cells_;  // and as given, to clear them for the next scan
   std::vector<std::uint64_t> face_near_;  // the face layer (SetFaces): near a face, bitset rows
-  std::vector<std::uint64_t> face_seen_;  // and touched by the outline
-  std::vector<std::int32_t> face_cells_;  // both as given, to clear them for the next scan
-  std::vector<std::uint64_t> mask_;       // stage 3b output: the polygon mask, bitset rows
-  RowSpan mask_rows_;                     // every row of mask_ with a set bit
-  std::vector<std::uint64_t> edge_seen_;  // stage 4: stop cells already in C_Edge (bitset)
-  std::vector<std::int32_t> stop_;        // stage 4: stop cell per label
-  std::vector<std::int32_t> delta_;       // conventional model: per-cell sum of one scan's rays
+  std::vector<std::int32_t> face_near_cells_;  // and as given
+  std::vector<std::uint64_t> face_seen_;       // touched by the outline, bitset rows
+  std::vector<std::int32_t> face_seen_cells_;  // and as given
+  std::vector<std::uint64_t> mask_;            // stage 3b output: the polygon mask, bitset rows
+  RowSpan mask_rows_;                          // every row of mask_ with a set bit
+  std::vector<std::uint64_t> edge_seen_;       // stage 4: stop cells already in C_Edge (bitset)
+  std::vector<std::int32_t> stop_;             // stage 4: stop cell per label
+  std::vector<std::int32_t> delta_;  // conventional model: per-cell sum of one scan's rays
 };
 
 // Row kernels shared by the host backend and the tests. Each computes one row exactly as the
 // OpenCL kernel of the same stem does for that row.
 namespace host {
+
+// A per-scan layer of cells (the echoes, the face layer): replaces the cells `held` last set in
+// the bitset rows `bits` (`words` a row) with `cells` (row * width + col), and holds those.
+void SetCellBits(const std::int32_t* cells, int count, int width, int words,
+                 std::vector<std::int32_t>* held, std::vector<std::uint64_t>* bits);
 
 // Stage 1: toggles parity at each crossing of the polygon's edges with row `row`'s centre
 // line and turns the parity into kUpdateFree / kUpdateNone; `out` has `width` cells.

@@ -31,6 +31,11 @@ struct FaceRule {
 // The widest run of beams without echo that counts as a gap in a surface: 8 degrees.
 inline constexpr double kMaxGapDeg = 8.0;
 
+// One part's lists of FaceCells().
+struct FaceLists {
+  std::vector<std::int32_t> near, seen;
+};
+
 // From one scan's outline: `vertices` its full-scan polygon's closed ring (fixed point, vertex 0
 // the sensor) and `beams` its vertices 1 .. n (the same count, in order). An edge between two
 // consecutive beams is a face when it is no longer than the join distance and, where it meets
@@ -38,18 +43,8 @@ inline constexpr double kMaxGapDeg = 8.0;
 // within the join distance) or this is its first edge from a real beam. Appends to `near` every
 // map cell whose square lies within rule.tolerance_m of a face, or of a real beam's point at
 // either end of an edge that is not one; to `seen` the cells such a face or point touches. Cells
-// outside the map are left out; repeats allowed.
-void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam>& beams,
-               const FaceRule& rule, int width, int height, std::vector<std::int32_t>* near,
-               std::vector<std::int32_t>* seen);
-
-// One part's lists of FaceCells() in parallel.
-struct FaceLists {
-  std::vector<std::int32_t> near, seen;
-};
-
-// The same, the edges split into parts->size() runs worked in parallel (TBB), each into its part
-// (cleared first), then appended to `near` and `seen` in order: the same cells.
+// outside the map are left out; repeats allowed. The edges are split into parts->size() runs
+// worked in parallel (TBB), each into its part (cleared first), then appended in order.
 void FaceCells(const std::vector<std::int32_t>& vertices, const std::vector<Beam>& beams,
                const FaceRule& rule, int width, int height, std::vector<FaceLists>* parts,
                std::vector<std::int32_t>* near, std::vector<std::int32_t>* seen);
