@@ -121,6 +121,11 @@ struct PolygonConfig {
   // kept out of the polygon, and a cell this scan's outline touches is no margin source: where
   // the scan sees the face, the face, not its cell, decides. 0 .. 1 m, needs shape inside.
   double face_tolerance_m = 0.0;
+  // The mover layer of the inside polygon (not in the paper; 0 = none): a vehicle the scans saw
+  // move into space an earlier scan saw free is followed at its speed, and the place it may be
+  // now, out of the scanners' sight, is kept out of the polygon for up to mover_memory_s after
+  // it was last seen. 0 .. 10 s, needs shape inside.
+  double mover_memory_s = 0.0;
 };
 
 // The vehicle around a rig of several sensors (Config::sensors). With one `sensor` the

@@ -93,6 +93,11 @@ const Relation kRelations[] = {
        return c.polygon.margin_cells == 0 || c.polygon.shape == PolygonShape::kInside;
      },
      nullptr},
+    {"polygon.mover_memory_s", "needs polygon.shape inside (0 with the paper's polygon)",
+     [](const Config& c) {
+       return c.polygon.mover_memory_s == 0 || c.polygon.shape == PolygonShape::kInside;
+     },
+     nullptr},
     {"polygon.face_tolerance_m",
      "needs polygon.shape inside and sensor_model.kind enhanced (0 with the paper's polygon or "
      "the conventional model, which draws no outline)",

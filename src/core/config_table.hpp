@@ -201,6 +201,10 @@ void VisitPolygon(C& p, Visitor& v) {
   v("face_tolerance_m", p.face_tolerance_m,
     {"m", Closed(0, 1),
      "the polygon keeps out cells this near a face this scan sees (not in the paper; 0 = none)"});
+  v("mover_memory_s", p.mover_memory_s,
+    {"s", Closed(0, 10),
+     "the polygon keeps out where a vehicle seen moving may be now, this long after it was "
+     "last seen (not in the paper; 0 = none)"});
 }
 
 template <class C, class Visitor>

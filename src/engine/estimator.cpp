@@ -37,7 +37,8 @@ double MapView::Probability(int row, int col) const {
   return ProbabilityFromLogOdds(log_odds[std::size_t(row) * width + col]);
 }
 
-Estimator::Impl::Impl(const Config& config) : config_(Validated(config)), circle_(config_) {
+Estimator::Impl::Impl(const Config& config)
+    : config_(Validated(config)), circle_(config_), movers_(MoverRule::Of(config_)) {
   backend_ = CreateBackend(config_);
   preprocess_ = std::make_unique<Preprocessor>(config_);
   const Backend::CrewRequest crew = backend_->WantedCrew();
@@ -63,6 +64,7 @@ void Estimator::Impl::Reset() {
   backend_->Clear();
   sweep_.Forget();
   for (RigSensor& unit : rig_) unit.sweep.Forget();
+  movers_.Clear();
 }
 
 // sensor.sweep_s: the sensor's motion since its last accepted scan (core/sweep.hpp). Call after
@@ -229,16 +231,42 @@ void Estimator::Impl::UpdateMap(bool has_update, const Scan& scan) {
     sensor_model_->Update(preprocess_.get(), r.vehicle_cells, r.yaw, backend_.get(), &r.times);
     const std::vector<std::int32_t>& echoes = preprocess_->echo_cells();
     backend_->SetEchoes(echoes.data(), int(echoes.size()));
-    const std::vector<std::int32_t>& near = preprocess_->face_near_cells();
+    mover_scans_.assign(1, {preprocess_.get(), r.sensor_pose, scan.timestamp_s, 0});
+    const std::vector<std::int32_t>& near =
+        MoverCells(preprocess_->face_near_cells(), scan.timestamp_s);
     const std::vector<std::int32_t>& seen = preprocess_->face_seen_cells();
     backend_->SetFaces(near.data(), int(near.size()), seen.data(), int(seen.size()));
   } else {
     backend_->SetEchoes(nullptr, 0);
-    backend_->SetFaces(nullptr, 0, nullptr, 0);
+    const std::vector<std::int32_t> none;
+    mover_scans_.clear();
+    const std::vector<std::int32_t>& near = MoverCells(none, scan.timestamp_s);
+    backend_->SetFaces(near.data(), int(near.size()), nullptr, 0);
     r.status = ScanStatus::kNoSensorUpdate;
     r.message.assign(scan.points.empty() ? "empty scan: no sensor update"
                                          : "no usable echo: no sensor update");
   }
+}
+
+const std::vector<std::int32_t>& Estimator::Impl::MoverCells(const std::vector<std::int32_t>& near,
+                                                             double t) {
+  if (!movers_.enabled()) return near;
+  const Clock::time_point start = Clock::now();
+  Result& r = result_;
+  if (r.map_reset) movers_.Clear();  // a jump of the poses: the tracks' places mean nothing now
+  movers_.BeginCycle(t);
+  for (const MoverScan& scan : mover_scans_)
+    movers_.Observe(scan.sensor, scan.pose, scan.t, scan.preprocess->beams());
+  hazard_.assign(near.begin(), near.end());
+  MapFrame frame;
+  frame.origin = r.origin;
+  frame.yaw = r.map_yaw;
+  frame.resolution_m = config_.map.resolution_m;
+  frame.width = config_.map.width_cells;
+  frame.height = config_.map.height_cells;
+  movers_.Hazard(t, frame, &hazard_);
+  r.times.rasterize_us += Micros(start, Clock::now());
+  return hazard_;
 }
 
 // Kernel stage 3 (classification + opening) and the border rays (stage 4).

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "estimator_impl.hpp"
 
@@ -201,9 +202,15 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   cycle_face_near_.clear();
   cycle_face_seen_.clear();
   cycle_scanners_.clear();
+  mover_scans_.clear();
+  double newest = -std::numeric_limits<double>::infinity();
   for (int k = 0; k < n; ++k) {
-    RigSensor& unit = rig_[scans[cycle_order_[k]].sensor];
+    const Scan& scan = scans[cycle_order_[k]];
+    newest = std::max(newest, scan.timestamp_s);
+    RigSensor& unit = rig_[scan.sensor];
     if (!unit.has_update) continue;
+    mover_scans_.push_back(
+        {unit.preprocess.get(), r.cycle_sensor_poses[k], scan.timestamp_s, scan.sensor});
     cycle_scanners_.push_back(unit.cells);
     sensor_model_->Apply(unit.projection, backend_.get(), &r.times);
     const std::vector<std::int32_t>& echoes = unit.preprocess->echo_cells();
@@ -215,7 +222,8 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   }
   FuseFootprint();
   backend_->SetEchoes(cycle_echoes_.data(), int(cycle_echoes_.size()));
-  backend_->SetFaces(cycle_face_near_.data(), int(cycle_face_near_.size()), cycle_face_seen_.data(),
+  const std::vector<std::int32_t>& near = MoverCells(cycle_face_near_, newest);
+  backend_->SetFaces(near.data(), int(near.size()), cycle_face_seen_.data(),
                      int(cycle_face_seen_.size()));
 }
 

@@ -1,0 +1,249 @@
+// The mover layer (polygon.mover_memory_s): scans ray-cast in a small world of boxes, a box that
+// moves out of sight behind another, and a static world passed at speed.
+#include "core/movers.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "core/preprocess.hpp"
+#include "test_util.hpp"
+
+namespace freespace {
+namespace {
+
+struct Box {
+  double x0, y0, x1, y1;
+};
+
+// Distance along the ray from (ox, oy) in direction (dx, dy) to `box`, +inf when it misses.
+double Hit(const Box& box, double ox, double oy, double dx, double dy) {
+  double lo = 0.0, hi = 1e9;
+  const double o[2] = {ox, oy}, d[2] = {dx, dy}, b0[2] = {box.x0, box.y0}, b1[2] = {box.x1, box.y1};
+  for (int k = 0; k < 2; ++k) {
+    if (std::abs(d[k]) < 1e-12) {
+      if (o[k] < b0[k] || o[k] > b1[k]) return INFINITY;
+      continue;
+    }
+    double t0 = (b0[k] - o[k]) / d[k], t1 = (b1[k] - o[k]) / d[k];
+    if (t0 > t1) std::swap(t0, t1);
+    lo = std::max(lo, t0);
+    hi = std::min(hi, t1);
+  }
+  return lo <= hi ? lo : INFINITY;
+}
+
+// A ScaLa-like scan (145 deg at 0.25 deg) of `boxes` from `pose`: the nearest hit of each beam.
+std::vector<Beam> ScanOf(const std::vector<Box>& boxes, const Pose2D& pose) {
+  std::vector<Beam> beams;
+  for (int i = 0; i <= 580; ++i) {
+    const double a = (-72.5 + 0.25 * i) * M_PI / 180.0;
+    const double dx = std::cos(pose.yaw + a), dy = std::sin(pose.yaw + a);
+    double r = INFINITY;
+    for (const Box& box : boxes) r = std::min(r, Hit(box, pose.x, pose.y, dx, dy));
+    Beam b;
+    b.angle = float(a);
+    b.range = float(std::isfinite(r) ? r : 100.0);
+    b.is_virtual = !std::isfinite(r);
+    b.x = float(b.range * std::cos(a));
+    b.y = float(b.range * std::sin(a));
+    beams.push_back(b);
+  }
+  return beams;
+}
+
+MoverRule Rule() {
+  MoverRule rule;
+  rule.memory_s = 3.0;
+  rule.bin_width_rad = 0.25 * M_PI / 180.0;
+  return rule;
+}
+
+MapFrame Frame() {
+  MapFrame f;
+  f.origin = Vec2(-10.0, -30.0);
+  f.resolution_m = 0.2;
+  f.width = f.height = 300;
+  return f;
+}
+
+// The cells whose centre lies inside `box`.
+std::set<std::int32_t> CellsOf(const Box& box, const MapFrame& f) {
+  std::set<std::int32_t> cells;
+  for (int r = 0; r < f.height; ++r) {
+    for (int c = 0; c < f.width; ++c) {
+      const double x = f.origin.x() + (c + 0.5) * f.resolution_m;
+      const double y = f.origin.y() + (r + 0.5) * f.resolution_m;
+      if (x > box.x0 && x < box.x1 && y > box.y0 && y < box.y1) cells.insert(r * f.width + c);
+    }
+  }
+  return cells;
+}
+
+TEST(MoverLayer, InsideOutline) {
+  MoverTracker::Outline outline;
+  outline.pose = {1.0, 2.0, M_PI / 2};  // looking along +y
+  outline.cos_yaw = 0.0;
+  outline.sin_yaw = 1.0;
+  for (int i = -4; i <= 4; ++i) {
+    outline.angle.push_back(float(0.01 * i));
+    outline.range.push_back(10.0f);
+  }
+  const double bin = 0.01;
+  EXPECT_TRUE(InsideOutline(outline, Vec2(1.0, 7.0), bin, 0.5));
+  EXPECT_FALSE(InsideOutline(outline, Vec2(1.0, 11.8), bin, 0.5));  // 9.8 m: within the margin
+  EXPECT_FALSE(InsideOutline(outline, Vec2(1.0, 13.0), bin, 0.0));  // beyond the outline
+  EXPECT_FALSE(InsideOutline(outline, Vec2(4.0, 7.0), bin, 0.0));   // outside the aperture
+  EXPECT_FALSE(InsideOutline(outline, Vec2(1.0, -3.0), bin, 0.0));  // behind the sensor
+  // A pole two beams to the side: the point is inside unless the spread reaches the pole.
+  outline.range[2] = 3.0f;                                                      // at -0.02 rad
+  const Vec2 beside(1.0 + 5.0 * std::sin(0.005), 2.0 + 5.0 * std::cos(0.005));  // at -0.005 rad
+  EXPECT_TRUE(InsideOutline(outline, beside, bin, 0.5));
+  std::size_t at = 0;
+  EXPECT_FALSE(InsideOutline(outline, beside, bin, 0.5, 2, &at));
+  EXPECT_EQ(at, 4u);
+}
+
+TEST(MoverLayer, FastAtan2) {
+  for (int i = -720; i <= 720; ++i) {
+    const double a = i * M_PI / 720.0 * 0.999;
+    for (const double r : {0.05, 1.0, 150.0}) {
+      EXPECT_NEAR(FastAtan2(float(r * std::sin(a)), float(r * std::cos(a))), a, 2e-5) << a;
+    }
+  }
+}
+
+TEST(MoverLayer, OffWithoutMemory) {
+  Config c;
+  c.polygon.shape = PolygonShape::kInside;
+  EXPECT_FALSE(MoverTracker(MoverRule::Of(c)).enabled());
+  c.polygon.mover_memory_s = 2.0;
+  EXPECT_TRUE(MoverTracker(MoverRule::Of(c)).enabled());
+  c.polygon.shape = PolygonShape::kPaper;
+  EXPECT_FALSE(MoverTracker(MoverRule::Of(c)).enabled());
+}
+
+// A car-sized box crosses the view at 10 m/s and drives behind a wall: while out of sight, the
+// hazard holds where it is now, not where it was last seen, and never a cell the scan sees.
+TEST(MoverLayer, FollowsACarOutOfSight) {
+  const Box back{40.0, -60.0, 41.0, 60.0}, wall{7.0, 2.0, 8.0, 30.0};
+  MoverTracker movers(Rule());
+  const MapFrame frame = Frame();
+  const Pose2D sensor{0.0, 0.0, 0.0};
+  const double speed = 10.0;
+  double last_seen_y = -1e9;
+  int checked = 0;
+  for (int k = 0; k <= 75; ++k) {
+    const double t = 0.04 * k;
+    const double y = -10.0 + speed * t;  // the car's rear
+    const Box car{14.0, y, 16.0, y + 4.5};
+    const std::vector<Beam> beams = ScanOf({back, wall, car}, sensor);
+    const bool visible = std::any_of(beams.begin(), beams.end(), [&](const Beam& b) {
+      const double bx = b.x, by = b.y;
+      return bx >= 13.99 && bx <= 16.01 && by >= y - 0.01 && by <= y + 4.51;
+    });
+    if (visible) last_seen_y = y;
+    movers.BeginCycle(t);
+    movers.Observe(0, sensor, t, beams);
+    std::vector<std::int32_t> hazard;
+    movers.Hazard(t, frame, &hazard);
+    // No repeats, all inside the map.
+    std::set<std::int32_t> unique(hazard.begin(), hazard.end());
+    ASSERT_EQ(unique.size(), hazard.size());
+    for (std::int32_t cell : hazard) ASSERT_TRUE(cell >= 0 && cell < 300 * 300);
+    if (visible || t - 0.04 > 1.0 + (last_seen_y + 10.0) / speed) continue;
+    // Out of sight for up to a second: the car's cells now are held.
+    ++checked;
+    const std::set<std::int32_t> now = CellsOf(car, frame);
+    int held = 0;
+    for (std::int32_t cell : now) held += unique.count(cell);
+    EXPECT_GE(held, int(0.95 * double(now.size()))) << "t " << t;
+    // Where its rear was last seen, 8 m and more behind it now, is not held.
+    const std::set<std::int32_t> then =
+        CellsOf({14.0, last_seen_y - 0.5, 16.0, last_seen_y + 0.5}, frame);
+    if (y - last_seen_y > 8.0) {
+      for (std::int32_t cell : then) EXPECT_EQ(unique.count(cell), 0u) << "t " << t;
+    }
+  }
+  EXPECT_GT(checked, 10);
+  EXPECT_EQ(movers.movers(), 1);
+}
+
+// Overtaking a truck at 36 against its 22 m/s: the part of it in sight shrinks to its front as
+// the aperture passes it, and its speed is still its own; once it is behind the scanner, the
+// hazard holds its near side.
+TEST(MoverLayer, OvertakenTruck) {
+  const Box left{-100.0, 12.0, 400.0, 13.0}, right{-100.0, -14.0, 400.0, -13.0};
+  MoverTracker movers(Rule());
+  MapFrame frame = Frame();
+  int checked = 0;
+  for (int k = 0; k <= 150; ++k) {
+    const double t = 0.04 * k;
+    const Pose2D sensor{36.0 * t, 0.0, 0.0};
+    const double rear = 40.0 + 22.0 * t;
+    const Box truck{rear, -8.3, rear + 16.5, -5.7};
+    movers.BeginCycle(t);
+    movers.Observe(0, sensor, t, ScanOf({left, right, truck}, sensor));
+    if (rear + 16.5 > sensor.x + 1.0) continue;  // not yet wholly behind the scanner
+    frame.origin = Vec2(sensor.x - 30.0, -30.0);
+    std::vector<Vec2> v = movers.mover_velocities();
+    ASSERT_EQ(v.size(), 1u) << "t " << t;
+    EXPECT_NEAR(v[0].x(), 22.0, 1.5);
+    EXPECT_NEAR(v[0].y(), 0.0, 1.0);
+    std::vector<std::int32_t> hazard;
+    movers.Hazard(t, frame, &hazard);
+    const std::set<std::int32_t> held(hazard.begin(), hazard.end());
+    const std::set<std::int32_t> near_side = CellsOf({rear, -6.5, rear + 16.5, -5.7}, frame);
+    int in = 0;
+    for (std::int32_t cell : near_side) in += held.count(cell);
+    EXPECT_GE(in, int(0.95 * double(near_side.size()))) << "t " << t;
+    ++checked;
+  }
+  EXPECT_GT(checked, 10);
+}
+
+TEST(MoverLayer, ForgetsAfterMemory) {
+  const Box back{40.0, -60.0, 41.0, 60.0}, wall{7.0, 2.0, 8.0, 30.0};
+  MoverRule rule = Rule();
+  rule.memory_s = 0.5;
+  MoverTracker movers(rule);
+  const Pose2D sensor{0.0, 0.0, 0.0};
+  double t = 0.0;
+  for (int k = 0; k <= 150; ++k) {
+    t = 0.04 * k;
+    const double y = -10.0 + 10.0 * t;
+    movers.BeginCycle(t);
+    movers.Observe(0, sensor, t, ScanOf({back, wall, Box{14.0, y, 16.0, y + 4.5}}, sensor));
+  }
+  // Out of sight since about t = 1.5 s.
+  EXPECT_EQ(movers.tracks(), 0);
+  std::vector<std::int32_t> hazard;
+  movers.Hazard(t, Frame(), &hazard);
+  EXPECT_TRUE(hazard.empty());
+}
+
+// Driving at 30 m/s past parked cars, posts and a wall: nothing moves, nothing is held.
+TEST(MoverLayer, StaticWorldFromAMovingSensor) {
+  std::vector<Box> world = {{-50.0, 8.0, 400.0, 9.0}, {-50.0, -9.0, 400.0, -8.0}};
+  for (int i = 0; i < 30; ++i) {
+    const double x = 10.0 + 11.0 * i;
+    world.push_back({x, -6.5, x + 4.5, -4.7});      // parked cars
+    world.push_back({x + 6.0, 5.0, x + 6.3, 5.3});  // posts
+  }
+  MoverTracker movers(Rule());
+  MapFrame frame = Frame();
+  for (int k = 0; k < 200; ++k) {
+    const double t = 0.04 * k;
+    const Pose2D sensor{30.0 * t, 0.0, 0.01 * std::sin(t)};
+    movers.BeginCycle(t);
+    movers.Observe(0, sensor, t, ScanOf(world, sensor));
+    frame.origin = Vec2(sensor.x - 10.0, -30.0);
+    std::vector<std::int32_t> hazard;
+    movers.Hazard(t, frame, &hazard);
+    ASSERT_TRUE(hazard.empty()) << "t " << t;
+  }
+  EXPECT_EQ(movers.movers(), 0);
+}
+
+}  // namespace
+}  // namespace freespace
