@@ -45,6 +45,7 @@ void RunDrive(benchmark::State& state, bool polygon_only) {
     config.polygon.shape = PolygonShape::kPaper;
     config.polygon.margin_cells = 0;
     config.polygon.face_tolerance_m = 0.0;
+    config.polygon.mover_memory_s = 0.0;
   }
   Estimator estimator(config);
   state.SetLabel(std::string(kScenarios[state.range(1)]) + " " + ToString(config.polygon.shape) +

@@ -180,16 +180,26 @@ TEST(Config, PolygonMarginIsValidatedAndKept) {
   EXPECT_NE(faces.find("polygon.shape inside"), std::string::npos) << faces;
   const std::string rays =
       ErrorOf(inside + "  face_tolerance_m: 0.05\nsensor_model:\n  kind: conventional\n");
+  EXPECT_EQ(ErrorOf(inside + "  mover_memory_s: 3\n"), "");
+  EXPECT_NE(ErrorOf(inside + "  mover_memory_s: -1\n").find("polygon.mover_memory_s = -1"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(inside + "  mover_memory_s: 11\n").find("polygon.mover_memory_s = 11"),
+            std::string::npos);
+  const std::string movers = ErrorOf("polygon:\n  mover_memory_s: 3\n");
+  EXPECT_NE(movers.find("polygon.mover_memory_s"), std::string::npos) << movers;
+  EXPECT_NE(movers.find("polygon.shape inside"), std::string::npos) << movers;
   EXPECT_NE(rays.find("sensor_model.kind enhanced"), std::string::npos) << rays;
   Config c;
   c.polygon.shape = PolygonShape::kInside;
   c.polygon.margin_cells = 3;
   c.polygon.margin_cone_deg = 45.5;
   c.polygon.face_tolerance_m = 0.07;
+  c.polygon.mover_memory_s = 2.5;
   const Config back = Config::FromYaml(c.ToYaml());
   EXPECT_EQ(back.polygon.margin_cells, 3);
   EXPECT_DOUBLE_EQ(back.polygon.margin_cone_deg, 45.5);
   EXPECT_DOUBLE_EQ(back.polygon.face_tolerance_m, 0.07);
+  EXPECT_DOUBLE_EQ(back.polygon.mover_memory_s, 2.5);
 }
 
 TEST(Config, ThresholdsAgreeWithProbabilitiesOnEveryLogOdds) {
@@ -306,7 +316,8 @@ TEST(ConfigDocs, ScalaYamlSetsEveryFieldToItsDefaultButTheNamedOnes) {
   const std::set<std::string> not_default = {
       "sensor.mount_x_m",        "sensor.sweep_s",           "polygon.shape",
       "polygon.max_vertices",    "polygon.epsilon_m",        "polygon.margin_cells",
-      "polygon.margin_cone_deg", "polygon.face_tolerance_m", "sensor_model.free_on_outline"};
+      "polygon.margin_cone_deg", "polygon.face_tolerance_m", "polygon.mover_memory_s",
+      "sensor_model.free_on_outline"};
   for (const std::string& name : ConfigFieldNames()) {
     const std::string section = name.substr(0, name.find('.'));
     const std::string field = name.substr(name.find('.') + 1);

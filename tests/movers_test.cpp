@@ -7,6 +7,9 @@
 #include <set>
 
 #include "core/preprocess.hpp"
+#include "eval/scorer.hpp"
+#include "freespace/estimator.hpp"
+#include "sim/simulator.hpp"
 #include "test_util.hpp"
 
 namespace freespace {
@@ -243,6 +246,44 @@ TEST(MoverLayer, StaticWorldFromAMovingSensor) {
     ASSERT_TRUE(hazard.empty()) << "t " << t;
   }
   EXPECT_EQ(movers.movers(), 0);
+}
+
+// The road setup on the simulated highway while the car overtakes a truck and passes traffic
+// (seed 1, 20 .. 31 s): without the layer the polygon holds the overtaken vehicles behind the
+// scanner; with it, their place is kept out.
+TEST(MoverLayer, KeepsOvertakenTrafficOutOfThePolygon) {
+  sim::SimulationOptions options;
+  options.scenario = "highway";
+  options.seed = 1;
+  options.duration_s = 31.0;
+  sim::Simulation simulation(options);
+  Config config = test::LoadProjectConfig("scala.yaml");
+  config.sensor = simulation.truth().scanner.EngineSensor();
+  ASSERT_GT(config.polygon.mover_memory_s, 0.0);
+  Estimator with(config);
+  config.polygon.mover_memory_s = 0.0;
+  Estimator without(config);
+  sim::TruthScorer score_with(simulation.truth()), score_without(simulation.truth());
+  double moving_with = 0.0, moving_without = 0.0, area_with = 0.0, area_without = 0.0;
+  int scans = 0;
+  Scan scan;
+  while (simulation.Next(&scan)) {
+    if (scan.timestamp_s < 20.0) continue;
+    const Result& a = with.Process(scan);
+    const ScanMetrics ma = score_with.Score(score_with.Find(a.timestamp_s), with.map(), a);
+    const Result& b = without.Process(scan);
+    const ScanMetrics mb = score_without.Score(score_without.Find(b.timestamp_s), without.map(), b);
+    moving_with += ma.intrusion_moving_m2;
+    moving_without += mb.intrusion_moving_m2;
+    area_with += ma.polygon_area_m2;
+    area_without += mb.polygon_area_m2;
+    ++scans;
+  }
+  ASSERT_GT(scans, 250);
+  EXPECT_GT(moving_without / scans, 1.0);
+  EXPECT_LT(moving_with / scans, 0.05);
+  // The polygon keeps most of its area: only the movers' places go.
+  EXPECT_GT(area_with, 0.85 * area_without);
 }
 
 }  // namespace

@@ -53,7 +53,7 @@ head -c 4 "$out/demo/demo.avi" | grep -q RIFF || fail "demo.avi is not an AVI fi
 # Without --config the demo runs the road setup of configs/scala.yaml: its sensor's sweep, its
 # sensor model and polygon fields as that file has them (the demo writes numbers to 17 digits).
 for field in "sweep_s: 0.016" "free_on_outline: false" "shape: inside" "max_vertices: 128" \
-  "margin_cells: 1" "margin_cone_deg: 10" "face_tolerance_m: 0.05"; do
+  "margin_cells: 1" "margin_cone_deg: 10" "face_tolerance_m: 0.05" "mover_memory_s: 3"; do
   grep -q "^  $field[0-9]*\$" "$out/demo/config.yaml" || fail "demo config lacks '$field'"
   grep -q "^  $field\$" "$src/configs/scala.yaml" || fail "configs/scala.yaml lacks '$field'"
 done

@@ -62,6 +62,7 @@ Config RoadConfig() {
   config.polygon.margin_cells = 1;
   config.polygon.margin_cone_deg = 10.0;
   config.polygon.face_tolerance_m = 0.05;
+  config.polygon.mover_memory_s = 3.0;
   config.sensor_model.free_on_outline = false;
   return config;
 }

@@ -90,11 +90,13 @@ void ComparePolygonShapes(const Config& config, const BenchSource& source,
   paper.polygon.shape = PolygonShape::kPaper;
   paper.polygon.margin_cells = 0;
   paper.polygon.face_tolerance_m = 0.0;
+  paper.polygon.mover_memory_s = 0.0;
   inside.polygon.shape = PolygonShape::kInside;
   if (config.polygon.shape != PolygonShape::kInside) {
     inside.polygon.margin_cells = 1;
     inside.polygon.margin_cone_deg = 10.0;
     inside.polygon.face_tolerance_m = 0.05;
+    inside.polygon.mover_memory_s = 3.0;
   }
   report->paper_shape = TimePipeline(paper, source.scans, options.warmup);
   report->inside_shape = TimePipeline(inside, source.scans, options.warmup);
