@@ -7,6 +7,7 @@
 // outside the timed region.
 #include "bench_util.hpp"
 #include "core/inside_polygon.hpp"
+#include "core/movers.hpp"
 #include "core/simplifier.hpp"
 
 namespace freespace::bench {
@@ -190,6 +191,39 @@ void BM_ProjectFaces(benchmark::State& state) {
   state.counters["beams"] = double(preprocess.beams().size());
 }
 
+// The mover layer's work on every scan (polygon.mover_memory_s): that scan's 581 beams, taken
+// again every 40 ms from the same pose, compared with the outline of 0.2 s before (both
+// detection passes, the runs) and the hazard of no mover: nothing moves. What followed vehicles
+// add is in BM_DrivePipeline's highway case.
+void BM_MoverObserve(benchmark::State& state) {
+  auto input = MakeStageInput(300);
+  if (!input) {
+    state.SkipWithError("recorded data not found (set FREESPACE_DATA_DIR)");
+    return;
+  }
+  Config config = input->config;
+  config.polygon.shape = PolygonShape::kInside;
+  config.polygon.mover_memory_s = 3.0;
+  Preprocessor preprocess(config);
+  ScanStats stats;
+  preprocess.Run(input->scan, &stats);
+  MoverTracker movers(MoverRule::Of(config));
+  MapFrame frame;
+  frame.width = frame.height = 300;
+  std::vector<std::int32_t> hazard;
+  double t = 0.0;
+  for (auto _ : state) {
+    t += 0.04;
+    movers.BeginCycle(t);
+    movers.Observe(0, Pose2D{1.0, 2.0, 0.3}, t, preprocess.beams());
+    hazard.clear();
+    movers.Hazard(t, frame, &hazard);
+    benchmark::DoNotOptimize(hazard.data());
+  }
+  state.counters["beams"] = double(preprocess.beams().size());
+  state.counters["movers"] = double(movers.movers());
+}
+
 // Deskew() alone on that scan's 2093 kept echoes and 581 beams (each iteration moves them again).
 void BM_Deskew(benchmark::State& state) {
   auto input = MakeStageInput(300);
@@ -239,6 +273,7 @@ BENCHMARK(BM_Preprocess)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PreprocessSweep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Deskew)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ProjectFaces)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_MoverObserve)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Rasterize)->Apply(Sizes);
 BENCHMARK(BM_RasterizeOutline)->Apply(Sizes);
 BENCHMARK(BM_Fuse)->Apply(Sizes);

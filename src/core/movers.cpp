@@ -106,6 +106,7 @@ void MoverTracker::Clear() {
   for (auto& h : history_) h.clear();
   view_.clear();
   tracks_.clear();
+  for (Pending& pending : pending_) pending.ready = false;
 }
 
 void MoverTracker::BeginCycle(double t) {
@@ -116,14 +117,19 @@ void MoverTracker::BeginCycle(double t) {
       tracks_.end());
 }
 
-void MoverTracker::Observe(int sensor, const Pose2D& pose, double t,
-                           const std::vector<Beam>& beams) {
-  Outline outline;
+void MoverTracker::Detect(int sensor, const Pose2D& pose, double t,
+                          const std::vector<Beam>& beams) {
+  Pending& pending = pending_[sensor];
+  pending.ready = true;
+  pending.found.clear();
+  Outline& outline = pending.outline;
+  outline = Outline();
   outline.pose = pose;
   outline.cos_yaw = std::cos(pose.yaw);
   outline.sin_yaw = std::sin(pose.yaw);
   outline.t = t;
-  points_.resize(beams.size());
+  std::vector<Vec2>& points = pending.points;
+  points.resize(beams.size());
   outline.angle.reserve(beams.size());
   outline.range.reserve(beams.size());
   outline.world.reserve(beams.size());
@@ -131,39 +137,48 @@ void MoverTracker::Observe(int sensor, const Pose2D& pose, double t,
   outline.real.reserve(beams.size());
   for (std::size_t i = 0; i < beams.size(); ++i) {
     const Beam& b = beams[i];
-    points_[i] = Vec2(pose.x + outline.cos_yaw * b.x - outline.sin_yaw * b.y,
-                      pose.y + outline.sin_yaw * b.x + outline.cos_yaw * b.y);
+    points[i] = Vec2(pose.x + outline.cos_yaw * b.x - outline.sin_yaw * b.y,
+                     pose.y + outline.sin_yaw * b.x + outline.cos_yaw * b.y);
     const float a = FastAtan2(b.y, b.x);
     // The deskewed beams keep their order but for a rounding: the inside test needs it strict.
     if (!outline.angle.empty() && a <= outline.angle.back()) continue;
     outline.angle.push_back(a);
     outline.range.push_back(std::sqrt(b.x * b.x + b.y * b.y));
-    outline.world.push_back(points_[i]);
+    outline.world.push_back(points[i]);
     outline.beam.push_back(std::uint32_t(i));
     outline.real.push_back(!b.is_virtual);
   }
-  std::deque<Outline>& history = history_[sensor];
   // The reference: the newest outline at least lag_s old.
-  const Outline* reference = nullptr;
+  const std::deque<Outline>& history = history_[sensor];
   for (auto it = history.rbegin(); it != history.rend(); ++it) {
     if (it->t <= t - rule_.lag_s && it->t >= t - 4.0 * rule_.lag_s) {
-      reference = &*it;
+      FindMoving(*it, beams, &pending);
       break;
     }
   }
-  std::vector<Observation> found;
-  if (reference != nullptr) Detect(*reference, outline, beams, &found);
-  Associate(&found);
-
-  history.push_back(std::move(outline));
-  while (history.size() > 1 && (history.size() > 256 || history[1].t <= t - rule_.lag_s)) {
-    history.pop_front();
-  }
-  view_.push_back(&history.back());
 }
 
-void MoverTracker::Detect(const Outline& reference, const Outline& outline,
-                          const std::vector<Beam>& beams, std::vector<Observation>* found) const {
+void MoverTracker::Commit() {
+  for (int sensor = 0; sensor < kMaxSensors; ++sensor) {
+    Pending& pending = pending_[sensor];
+    if (!pending.ready) continue;
+    pending.ready = false;
+    Associate(&pending.found);
+    std::deque<Outline>& history = history_[sensor];
+    const double t = pending.outline.t;
+    history.push_back(std::move(pending.outline));
+    while (history.size() > 1 && (history.size() > 256 || history[1].t <= t - rule_.lag_s)) {
+      history.pop_front();
+    }
+    view_.push_back(&history.back());
+  }
+}
+
+void MoverTracker::FindMoving(const Outline& reference, const std::vector<Beam>& beams,
+                              Pending* pending) const {
+  const Outline& outline = pending->outline;
+  const std::vector<Vec2>& points = pending->points;
+  std::vector<Observation>* found = &pending->found;
   const double t = outline.t;
   std::vector<std::uint8_t> moving(beams.size(), 0);
   // Came nearer: this scan's echo inside the reference outline.
@@ -173,7 +188,7 @@ void MoverTracker::Detect(const Outline& reference, const Outline& outline,
       const Beam& b = beams[i];
       if (b.is_virtual) continue;
       const double margin = rule_.tolerance_m + 2.0 * b.range * rule_.bin_width_rad;
-      moving[i] = InsideOutline(reference, points_[i], rule_.bin_width_rad, margin, kSpread, &hint);
+      moving[i] = InsideOutline(reference, points[i], rule_.bin_width_rad, margin, kSpread, &hint);
     }
   };
   // Went away: the reference's echo inside this outline; the beams on either side of it see past
@@ -224,7 +239,7 @@ void MoverTracker::Detect(const Outline& reference, const Outline& outline,
       close(i);
       continue;
     }
-    const Vec2& p = points_[i];
+    const Vec2& p = points[i];
     const double join = rule_.join_m + rule_.join_per_m * std::min(last_range, b.range);
     if (!run.empty() && (p - last).norm() > join) close(i);
     if (run.empty()) first = i;

@@ -227,11 +227,16 @@ bool Estimator::Impl::Align(const Scan& scan) {
 // The sensor model and the fusion (kernel stages 1, 2), and this scan's echoes for the veto.
 void Estimator::Impl::UpdateMap(bool has_update, const Scan& scan) {
   Result& r = result_;
+  if (movers_.enabled()) {
+    const Clock::time_point start = Clock::now();
+    StartMovers(scan.timestamp_s);
+    if (has_update) movers_.Detect(0, r.sensor_pose, scan.timestamp_s, preprocess_->beams());
+    r.times.rasterize_us += Micros(start, Clock::now());
+  }
   if (has_update) {
     sensor_model_->Update(preprocess_.get(), r.vehicle_cells, r.yaw, backend_.get(), &r.times);
     const std::vector<std::int32_t>& echoes = preprocess_->echo_cells();
     backend_->SetEchoes(echoes.data(), int(echoes.size()));
-    mover_scans_.assign(1, {preprocess_.get(), r.sensor_pose, scan.timestamp_s, 0});
     const std::vector<std::int32_t>& near =
         MoverCells(preprocess_->face_near_cells(), scan.timestamp_s);
     const std::vector<std::int32_t>& seen = preprocess_->face_seen_cells();
@@ -239,7 +244,6 @@ void Estimator::Impl::UpdateMap(bool has_update, const Scan& scan) {
   } else {
     backend_->SetEchoes(nullptr, 0);
     const std::vector<std::int32_t> none;
-    mover_scans_.clear();
     const std::vector<std::int32_t>& near = MoverCells(none, scan.timestamp_s);
     backend_->SetFaces(near.data(), int(near.size()), nullptr, 0);
     r.status = ScanStatus::kNoSensorUpdate;
@@ -248,15 +252,17 @@ void Estimator::Impl::UpdateMap(bool has_update, const Scan& scan) {
   }
 }
 
+void Estimator::Impl::StartMovers(double t) {
+  if (result_.map_reset) movers_.Clear();  // a jump of the poses: the tracks' places mean nothing
+  movers_.BeginCycle(t);
+}
+
 const std::vector<std::int32_t>& Estimator::Impl::MoverCells(const std::vector<std::int32_t>& near,
                                                              double t) {
   if (!movers_.enabled()) return near;
   const Clock::time_point start = Clock::now();
   Result& r = result_;
-  if (r.map_reset) movers_.Clear();  // a jump of the poses: the tracks' places mean nothing now
-  movers_.BeginCycle(t);
-  for (const MoverScan& scan : mover_scans_)
-    movers_.Observe(scan.sensor, scan.pose, scan.t, scan.preprocess->beams());
+  movers_.Commit();
   hazard_.assign(near.begin(), near.end());
   MapFrame frame;
   frame.origin = r.origin;

@@ -51,15 +51,11 @@ class Estimator::Impl {
   bool CheckInput(const Scan& scan);
   bool Align(const Scan& scan);
   void UpdateMap(bool has_update, const Scan& scan);
-  // polygon.mover_memory_s: this cycle's scans with an update (mover_scans_) to the mover
-  // layer, and its hazard at time t with the face layer's `near` cells into hazard_; returns the
-  // cells the polygon mask keeps out (`near` itself when the layer is off).
-  struct MoverScan {
-    const Preprocessor* preprocess = nullptr;
-    Pose2D pose;  // the sensor's, world
-    double t = 0.0;
-    int sensor = 0;
-  };
+  // polygon.mover_memory_s: a cycle of the mover layer at time t (forgotten on a map reset),
+  // before its scans' MoverTracker::Detect(); then their observations to the tracks and the
+  // hazard at time t with the face layer's `near` cells into hazard_: the cells the polygon mask
+  // keeps out (`near` itself when the layer is off).
+  void StartMovers(double t);
   const std::vector<std::int32_t>& MoverCells(const std::vector<std::int32_t>& near, double t);
   void ClassifyAndScan();
   void ExtractPolygon();
@@ -124,7 +120,6 @@ class Estimator::Impl {
   std::vector<std::int32_t> cycle_face_near_;   // the face layer of every scan of the cycle:
   std::vector<std::int32_t> cycle_face_seen_;   // near, seen
   MoverTracker movers_;                         // polygon.mover_memory_s
-  std::vector<MoverScan> mover_scans_;          // the cycle's scans for it
   std::vector<std::int32_t> hazard_;            // its cells and the face layer's near ones
   std::vector<Vec2> cycle_scanners_;            // map cells of the cycle's scanners with an update
   std::int32_t footprint_[8] = {};              // the footprint's corners, fixed point

@@ -163,10 +163,11 @@ bool Estimator::Impl::PreprocessCycle(const Scan* scans) {
 
 // Each scan's update from its own sensor's pose in the aligned map: every sensor's motion
 // during its sweep (one after the other: the trackers follow the map's resets), then each scan
-// deskewed and projected, the sensors in parallel (host work on each sensor's own buffers, its
-// time in rasterize_us), then the sensor model's kernels and the fusion in the rig's order; then
-// the footprint. The veto and face layers hold every scan's echoes and faces, and the polygon
-// mask's margin follows the lines of sight of the scanners that updated the map.
+// deskewed, projected and, with the mover layer, compared with its sensor's earlier outline, the
+// sensors in parallel (host work on each sensor's own buffers, its time in rasterize_us), then
+// the sensor model's kernels and the fusion in the rig's order; then the footprint. The veto and
+// face layers hold every scan's echoes and faces, the mover layer the cycle's hazard, and the
+// polygon mask's margin follows the lines of sight of the scanners that updated the map.
 void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   Result& r = result_;
   const int n = int(cycle_order_.size());
@@ -183,13 +184,21 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   const Clock::time_point start = Clock::now();
   const double res = config_.map.resolution_m;
   const int width = config_.map.width_cells, height = config_.map.height_cells;
+  double newest = -std::numeric_limits<double>::infinity();
+  for (int k = 0; k < n; ++k) newest = std::max(newest, scans[cycle_order_[k]].timestamp_s);
+  if (movers_.enabled()) StartMovers(newest);
   const auto project = [&](int k) {
-    RigSensor& unit = rig_[scans[cycle_order_[k]].sensor];
+    const Scan& scan = scans[cycle_order_[k]];
+    RigSensor& unit = rig_[scan.sensor];
     if (unit.swept) unit.preprocess->Deskew(unit.motion);
     if (!unit.has_update) return;
     double yaw = 0.0;
     unit.cells = MapCells(r.cycle_sensor_poses[k], r, res, &yaw);  // CheckCycleSpread's pose
     sensor_model_->Project(unit.preprocess.get(), unit.cells, yaw, width, height, &unit.projection);
+    if (movers_.enabled()) {
+      movers_.Detect(scan.sensor, r.cycle_sensor_poses[k], scan.timestamp_s,
+                     unit.preprocess->beams());
+    }
   };
   if (n == 1) {
     project(0);
@@ -202,15 +211,9 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   cycle_face_near_.clear();
   cycle_face_seen_.clear();
   cycle_scanners_.clear();
-  mover_scans_.clear();
-  double newest = -std::numeric_limits<double>::infinity();
   for (int k = 0; k < n; ++k) {
-    const Scan& scan = scans[cycle_order_[k]];
-    newest = std::max(newest, scan.timestamp_s);
-    RigSensor& unit = rig_[scan.sensor];
+    RigSensor& unit = rig_[scans[cycle_order_[k]].sensor];
     if (!unit.has_update) continue;
-    mover_scans_.push_back(
-        {unit.preprocess.get(), r.cycle_sensor_poses[k], scan.timestamp_s, scan.sensor});
     cycle_scanners_.push_back(unit.cells);
     sensor_model_->Apply(unit.projection, backend_.get(), &r.times);
     const std::vector<std::int32_t>& echoes = unit.preprocess->echo_cells();

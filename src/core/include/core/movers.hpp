@@ -85,8 +85,18 @@ class MoverTracker {
   // of the last cycle's view.
   void BeginCycle(double t);
   // One scan of sensor `sensor` (0 .. kMaxSensors - 1) taken from world pose `pose` at time t,
-  // its beams in the sensor frame (Preprocessor::beams(), deskewed).
-  void Observe(int sensor, const Pose2D& pose, double t, const std::vector<Beam>& beams);
+  // its beams in the sensor frame (Preprocessor::beams(), deskewed): its outline and what moved
+  // since the sensor's outline lag_s earlier. Scans of different sensors may be detected at
+  // once (each touches only its sensor's state); Commit() then takes them in.
+  void Detect(int sensor, const Pose2D& pose, double t, const std::vector<Beam>& beams);
+  // The scans detected since the last Commit(), in sensor order: their observations join the
+  // tracks, their outlines the history and this cycle's view.
+  void Commit();
+  // Detect() and Commit() of one scan.
+  void Observe(int sensor, const Pose2D& pose, double t, const std::vector<Beam>& beams) {
+    Detect(sensor, pose, t, beams);
+    Commit();
+  }
   // Appends the hazard cells at time t (row * width + col, inside the map, no repeats).
   void Hazard(double t, const MapFrame& frame, std::vector<std::int32_t>* cells);
   void Clear();
@@ -135,11 +145,17 @@ class MoverTracker {
   // A track is a hazard when it was observed this often and moves this fast.
   bool Moving(const Track& track) const;
 
-  // The runs of this scan (`outline`, `beams`) with moving echoes: echoes inside the reference
-  // outline (the object came nearer), and echoes where the reference's echo now lies inside this
-  // outline (the object went away).
-  void Detect(const Outline& reference, const Outline& outline, const std::vector<Beam>& beams,
-              std::vector<Observation>* found) const;
+  // A sensor's scan between Detect() and Commit().
+  struct Pending {
+    bool ready = false;
+    Outline outline;
+    std::vector<Observation> found;
+    std::vector<Vec2> points;  // the scan's beams in the world
+  };
+  // The runs of this scan (`pending`'s outline and points, `beams`) with moving echoes: echoes
+  // inside the reference outline (the object came nearer), and echoes where the reference's echo
+  // now lies inside this outline (the object went away).
+  void FindMoving(const Outline& reference, const std::vector<Beam>& beams, Pending* pending) const;
   void Associate(std::vector<Observation>* found);
   void Join(Track* track, Observation o);
   bool InView(const Vec2& p) const;
@@ -148,7 +164,7 @@ class MoverTracker {
   std::deque<Outline> history_[kMaxSensors];  // per sensor, oldest first
   std::vector<const Outline*> view_;          // this cycle's outlines
   std::vector<Track> tracks_;
-  std::vector<Vec2> points_;          // Observe(): the scan's beams in the world
+  Pending pending_[kMaxSensors];
   std::vector<std::uint64_t> marks_;  // Hazard(): cells already listed, a bit each
 };
 
