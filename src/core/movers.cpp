@@ -170,7 +170,7 @@ void MoverTracker::Commit() {
     while (history.size() > 1 && (history.size() > 256 || history[1].t <= t - rule_.lag_s)) {
       history.pop_front();
     }
-    view_.push_back(&history.back());
+    if (std::find(view_.begin(), view_.end(), sensor) == view_.end()) view_.push_back(sensor);
   }
 }
 
@@ -374,7 +374,8 @@ void MoverTracker::Join(Track* track, Observation o) {
 }
 
 bool MoverTracker::InView(const Vec2& p) const {
-  for (const Outline* outline : view_) {
+  for (const int sensor : view_) {
+    const Outline* outline = &history_[sensor].back();
     if (InsideOutline(*outline, p, rule_.bin_width_rad, 0.0)) return true;
   }
   return false;

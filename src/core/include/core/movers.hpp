@@ -162,7 +162,7 @@ class MoverTracker {
 
   MoverRule rule_;
   std::deque<Outline> history_[kMaxSensors];  // per sensor, oldest first
-  std::vector<const Outline*> view_;          // this cycle's outlines
+  std::vector<int> view_;  // the sensors of this cycle's outlines (each its history's newest)
   std::vector<Track> tracks_;
   Pending pending_[kMaxSensors];
   std::vector<std::uint64_t> marks_;  // Hazard(): cells already listed, a bit each
