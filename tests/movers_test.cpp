@@ -36,11 +36,13 @@ double Hit(const Box& box, double ox, double oy, double dx, double dy) {
   return lo <= hi ? lo : INFINITY;
 }
 
-// A ScaLa-like scan (145 deg at 0.25 deg) of `boxes` from `pose`: the nearest hit of each beam.
-std::vector<Beam> ScanOf(const std::vector<Box>& boxes, const Pose2D& pose) {
+// A ScaLa-like scan (145 deg at 0.25 deg; or `count` beams from `first_deg`) of `boxes` from
+// `pose`: the nearest hit of each beam.
+std::vector<Beam> ScanOf(const std::vector<Box>& boxes, const Pose2D& pose, double first_deg = -72.5,
+                         int count = 581) {
   std::vector<Beam> beams;
-  for (int i = 0; i <= 580; ++i) {
-    const double a = (-72.5 + 0.25 * i) * M_PI / 180.0;
+  for (int i = 0; i < count; ++i) {
+    const double a = (first_deg + 0.25 * i) * M_PI / 180.0;
     const double dx = std::cos(pose.yaw + a), dy = std::sin(pose.yaw + a);
     double r = INFINITY;
     for (const Box& box : boxes) r = std::min(r, Hit(box, pose.x, pose.y, dx, dy));
@@ -203,6 +205,28 @@ TEST(MoverLayer, OvertakenTruck) {
     ++checked;
   }
   EXPECT_GT(checked, 10);
+}
+
+// A scanner all around, its beams from 90 to 450 deg (so they cross 180 deg), sees a car cross in
+// front of it, in the part of the scan past 180 deg: the outline runs on, and the car is followed.
+TEST(MoverLayer, ApertureAcross180Deg) {
+  const std::vector<Box> walls = {
+      {-21.0, -21.0, 21.0, -20.0}, {-21.0, 20.0, 21.0, 21.0}, {-21.0, -20.0, -20.0, 20.0},
+      {20.0, -20.0, 21.0, 20.0}};
+  MoverTracker movers(Rule());
+  const Pose2D sensor{0.0, 0.0, 0.0};
+  for (int k = 0; k <= 40; ++k) {
+    const double t = 0.04 * k;
+    const double y = -9.0 + 10.0 * t;
+    std::vector<Box> world = walls;
+    world.push_back({10.0, y, 12.0, y + 4.5});
+    movers.BeginCycle(t);
+    movers.Observe(0, sensor, t, ScanOf(world, sensor, 90.0, 1440));
+  }
+  const std::vector<Vec2> v = movers.mover_velocities();
+  ASSERT_EQ(v.size(), 1u);
+  EXPECT_NEAR(v[0].x(), 0.0, 1.0);
+  EXPECT_NEAR(v[0].y(), 10.0, 1.5);
 }
 
 TEST(MoverLayer, ForgetsAfterMemory) {

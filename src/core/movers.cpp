@@ -46,7 +46,7 @@ MoverRule MoverRule::Of(const Config& config) {
   if (config.polygon.shape == PolygonShape::kInside) rule.memory_s = config.polygon.mover_memory_s;
   rule.join_m = 2.0 * config.clutter.eps_m;
   rule.join_per_m = 2.0 * config.clutter.eps_per_m;
-  double bin_deg = config.sensor.angular_resolution_deg;
+  double bin_deg = config.is_rig() ? 0.0 : config.sensor.angular_resolution_deg;
   for (const SensorConfig& sensor : config.sensors)
     bin_deg = std::max(bin_deg, sensor.angular_resolution_deg);
   rule.bin_width_rad = bin_deg * M_PI / 180.0;
@@ -72,10 +72,12 @@ bool InsideOutline(const MoverTracker::Outline& outline, const Vec2& p, double b
   const double c = outline.cos_yaw, s = outline.sin_yaw;
   const double dx = p.x() - outline.pose.x, dy = p.y() - outline.pose.y;
   const double x = c * dx + s * dy, y = -s * dx + c * dy;
-  const float a = FastAtan2(float(y), float(x));
   const std::vector<float>& angle = outline.angle;
   const std::size_t n = angle.size();
-  if (n < 2 || !(a >= angle.front()) || !(a < angle.back())) return false;
+  if (n < 2) return false;
+  float a = FastAtan2(float(y), float(x));
+  if (a < angle.front()) a += float(2.0 * M_PI);  // the outline's angles run from the first on
+  if (!(a >= angle.front()) || !(a < angle.back())) return false;
   // The first beam after a: a few steps from the hint (consecutive points lie at neighbouring
   // angles), else a binary search.
   std::size_t i = (at != nullptr && *at >= 1 && *at < n) ? *at : 0;
@@ -139,7 +141,9 @@ void MoverTracker::Detect(int sensor, const Pose2D& pose, double t,
     const Beam& b = beams[i];
     points[i] = Vec2(pose.x + outline.cos_yaw * b.x - outline.sin_yaw * b.y,
                      pose.y + outline.sin_yaw * b.x + outline.cos_yaw * b.y);
-    const float a = FastAtan2(b.y, b.x);
+    float a = FastAtan2(b.y, b.x);
+    // Unwrapped past +-180 deg (an aperture may cross it): the angles run on from the first.
+    if (!outline.angle.empty() && a < outline.angle.back() - float(M_PI)) a += float(2.0 * M_PI);
     // The deskewed beams keep their order but for a rounding: the inside test needs it strict.
     if (!outline.angle.empty() && a <= outline.angle.back()) continue;
     outline.angle.push_back(a);
@@ -156,9 +160,11 @@ void MoverTracker::Detect(int sensor, const Pose2D& pose, double t,
       break;
     }
   }
+  for (Observation& o : pending.found) o.sensor = sensor;
 }
 
 void MoverTracker::Commit() {
+  ++cycle_;
   for (int sensor = 0; sensor < kMaxSensors; ++sensor) {
     Pending& pending = pending_[sensor];
     if (!pending.ready) continue;
@@ -334,6 +340,7 @@ void MoverTracker::Associate(std::vector<Observation>* found) {
       tracks_.emplace_back();
       tracks_.back().seen.push_back(std::move(o));
       tracks_.back().hits = 1;
+      tracks_.back().last_cycle = cycle_;
       continue;
     }
     int& into = merged_into[std::size_t(owner[i])];
@@ -348,6 +355,7 @@ void MoverTracker::Associate(std::vector<Observation>* found) {
     std::vector<Observation> one;
     Finish(points, o.t, &one);
     one.front().strong = strong;
+    one.front().sensor = o.sensor;
     (*found)[std::size_t(into)] = std::move(one.front());
   }
   for (std::size_t k = 0; k < existing; ++k) {
@@ -356,10 +364,15 @@ void MoverTracker::Associate(std::vector<Observation>* found) {
 }
 
 void MoverTracker::Join(Track* track, Observation o) {
-  ++track->hits;
-  // The velocity over the window, from the oldest observation in it at least 0.1 s back.
-  for (const Observation& old : track->seen) {
-    if (old.t < o.t - kVelocityWindowS) continue;
+  if (track->last_cycle != cycle_) {
+    ++track->hits;
+    track->last_cycle = cycle_;
+  }
+  std::deque<Observation>& seen = track->seen;
+  // The velocity over the window, from the oldest observation of the same sensor in it at least
+  // 0.1 s back: another scanner sees other ends of the object.
+  for (const Observation& old : seen) {
+    if (old.sensor != o.sensor || old.t < o.t - kVelocityWindowS) continue;
     Vec2 measured;
     if (o.t - old.t >= 0.1 && VelocityBetween(old, o, &measured)) {
       track->velocity = track->measured ? 0.5 * (track->velocity + measured) : measured;
@@ -367,9 +380,26 @@ void MoverTracker::Join(Track* track, Observation o) {
     }
     break;
   }
-  std::deque<Observation>& seen = track->seen;
-  if (seen.size() >= 2 && o.t - seen[seen.size() - 2].t < kStoreS) seen.pop_back();
-  seen.push_back(std::move(o));
+  // In time order (a rig's scans of one cycle come in sensor order); of one sensor's, the newest
+  // and one each kStoreS before it.
+  auto at = seen.end();
+  while (at != seen.begin() && std::prev(at)->t > o.t) --at;
+  const auto same = [&](std::deque<Observation>::iterator from) {
+    while (from != seen.begin()) {
+      --from;
+      if (from->sensor == o.sensor) return from;
+    }
+    return seen.end();
+  };
+  const auto previous = same(at);
+  if (previous != seen.end()) {
+    const auto before = same(previous);
+    if (before != seen.end() && o.t - before->t < kStoreS) {
+      at = seen.erase(previous);
+      while (at != seen.end() && at->t <= o.t) ++at;
+    }
+  }
+  seen.insert(at, std::move(o));
   while (seen.front().t < seen.back().t - kKeepS) seen.pop_front();
 }
 
@@ -392,12 +422,15 @@ void MoverTracker::Hazard(double t, const MapFrame& frame, std::vector<std::int3
     for (const Observation& o : track.seen) {
       const double age = std::max(0.0, t - o.t);
       const Vec2 shift = track.velocity * age;
-      const double radius = (rule_.dilation_m + rule_.speed_sigma_mps * age) * k;
+      // Cells; no wider than the map, which keeps the keys below apart.
+      const double radius = std::min((rule_.dilation_m + rule_.speed_sigma_mps * age) * k,
+                                     double(frame.width + frame.height));
       for (const Vec2& p : o.points) {
         const Vec2 d = p + shift - frame.origin;
         const double u = (c * d.x() + s * d.y()) * k, v = (-s * d.x() + c * d.y()) * k;
-        if (u < -radius || v < -radius || u > frame.width + radius || v > frame.height + radius)
-          continue;
+        if (!(u >= -radius && v >= -radius && u <= frame.width + radius &&
+              v <= frame.height + radius))
+          continue;  // off the map (or not a number)
         const std::int64_t col = std::int64_t(std::floor(u)), row = std::int64_t(std::floor(v));
         centres.emplace_back((row + 65536) * 262144 + (col + 65536), radius);
       }
@@ -414,7 +447,8 @@ void MoverTracker::Hazard(double t, const MapFrame& frame, std::vector<std::int3
     const int reach = int(std::ceil(radius));
     for (int r = std::max(0, row - reach); r <= std::min(frame.height - 1, row + reach); ++r) {
       for (int q = std::max(0, col - reach); q <= std::min(frame.width - 1, col + reach); ++q) {
-        if ((r - row) * (r - row) + (q - col) * (q - col) > radius * radius) continue;
+        const double dr = r - row, dq = q - col;
+        if (dr * dr + dq * dq > radius * radius) continue;
         const std::size_t at = std::size_t(r) * frame.width + q;
         std::uint64_t& word = marks_[at >> 6];
         const std::uint64_t bit = std::uint64_t{1} << (at & 63);

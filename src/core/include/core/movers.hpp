@@ -14,12 +14,14 @@
 // velocity, lies within a gate of it. The velocity is measured between the new observation and
 // the oldest of the last kVelocityWindowS: from the motion of the run's ends that are ends of the
 // object in both (the beam beyond sees farther or nothing, not the aperture's edge or a nearer
-// surface: the part in sight may grow or shrink), refined by registering the two point sets, and
-// taken as zero when no motion fits clearly better than none (a wall matches itself along its
-// length). A track with kMinHits observations and at least min_speed_mps is a mover.
+// surface: the part in sight may grow or shrink), refined by registering the two point sets; where
+// no motion fits clearly better than none (a wall matches itself along its length) the shift
+// registered from none is taken (about zero), and without a shared end nothing is measured. The
+// velocity is measured between one sensor's observations. A track observed in kMinHits cycles and
+// at least min_speed_mps fast is a mover.
 //
 // Hazard: every mover until memory_s after its last observation: the points of its observations
-// of the last kKeepS, each moved on by the velocity to now and widened by dilation_m plus
+// within kKeepS of its newest, each moved on by the velocity to now and widened by dilation_m plus
 // speed_sigma_mps per second since it was taken, as map cells, less the cells the cycle's scans
 // see free now (inside their outlines): those hold no vehicle, or its echoes would show.
 #pragma once
@@ -122,6 +124,7 @@ class MoverTracker {
   // One run of beams taken for a mover.
   struct Observation {
     double t = 0.0;
+    int sensor = 0;
     std::vector<Vec2> points;  // world
     Vec2 centroid = Vec2::Zero();
     Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();  // bounding box
@@ -137,10 +140,12 @@ class MoverTracker {
 
  private:
   struct Track {
-    std::deque<Observation> seen;  // oldest first, one each kStoreS, within kKeepS of the newest
+    // Oldest first, one each kStoreS of each sensor, within kKeepS of the newest.
+    std::deque<Observation> seen;
     Vec2 velocity = Vec2::Zero();
     bool measured = false;  // the velocity has been measured once
-    int hits = 0;           // observations joined
+    int hits = 0;           // cycles with an observation
+    std::uint64_t last_cycle = 0;
   };
   // A track is a hazard when it was observed this often and moves this fast.
   bool Moving(const Track& track) const;
@@ -165,6 +170,7 @@ class MoverTracker {
   std::vector<int> view_;  // the sensors of this cycle's outlines (each its history's newest)
   std::vector<Track> tracks_;
   Pending pending_[kMaxSensors];
+  std::uint64_t cycle_ = 0;           // Commit()s so far
   std::vector<std::uint64_t> marks_;  // Hazard(): cells already listed, a bit each
 };
 
