@@ -13,16 +13,20 @@
 namespace freespace::bench {
 namespace {
 
+// The recorded scan and map at `cells` x `cells`, or null with the benchmark skipped and why.
+std::unique_ptr<StageInput> StageInputOrSkip(benchmark::State& state, int cells) {
+  auto input = MakeStageInput(cells);
+  if (!input) state.SkipWithError("recorded data not found (set FREESPACE_DATA_DIR)");
+  return input;
+}
+
 // Sets up the backend with the realistic map; skips the benchmark when it cannot run.
 struct Stage {
   std::unique_ptr<StageInput> input;
   std::unique_ptr<Backend> backend;
   bool Ready(benchmark::State& state) {
-    input = MakeStageInput(int(state.range(1)));
-    if (!input) {
-      state.SkipWithError("recorded data not found (set FREESPACE_DATA_DIR)");
-      return false;
-    }
+    input = StageInputOrSkip(state, int(state.range(1)));
+    if (!input) return false;
     std::string why;
     backend = MakeBackend(BenchBackend(state.range(0)), input->params, &why);
     if (!backend) {
@@ -129,11 +133,8 @@ void BM_Shift(benchmark::State& state) {
 
 // Host-only stages.
 void BM_Preprocess(benchmark::State& state) {
-  auto input = MakeStageInput(300);
-  if (!input) {
-    state.SkipWithError("recorded data not found (set FREESPACE_DATA_DIR)");
-    return;
-  }
+  auto input = StageInputOrSkip(state, 300);
+  if (!input) return;
   ScanStats stats;
   RasterJob job;
   for (auto _ : state) {
@@ -148,11 +149,8 @@ void BM_Preprocess(benchmark::State& state) {
 // ScaLa's (1): then each point is moved by the sensor's motion during the sweep (13 m/s,
 // turning at 0.3 rad/s) before the projection.
 void BM_PreprocessSweep(benchmark::State& state) {
-  auto input = MakeStageInput(300);
-  if (!input) {
-    state.SkipWithError("recorded data not found (set FREESPACE_DATA_DIR)");
-    return;
-  }
+  auto input = StageInputOrSkip(state, 300);
+  if (!input) return;
   Config config = input->config;
   config.sensor.sweep_s = state.range(0) == 0 ? 0.0 : 0.016;
   Preprocessor preprocess(config);
@@ -171,11 +169,8 @@ void BM_PreprocessSweep(benchmark::State& state) {
 // The projection of that scan from a preprocessor of the conservative polygon without the face
 // layer (argument 0) and with it at 0.05 m (1): the difference is FaceCells().
 void BM_ProjectFaces(benchmark::State& state) {
-  auto input = MakeStageInput(300);
-  if (!input) {
-    state.SkipWithError("recorded data not found (set FREESPACE_DATA_DIR)");
-    return;
-  }
+  auto input = StageInputOrSkip(state, 300);
+  if (!input) return;
   Config config = input->config;
   config.polygon.shape = PolygonShape::kInside;
   config.polygon.face_tolerance_m = state.range(0) == 0 ? 0.0 : 0.05;
@@ -196,11 +191,8 @@ void BM_ProjectFaces(benchmark::State& state) {
 // detection passes, the runs) and the hazard of no mover: nothing moves. What followed vehicles
 // add is in BM_DrivePipeline's highway case.
 void BM_MoverObserve(benchmark::State& state) {
-  auto input = MakeStageInput(300);
-  if (!input) {
-    state.SkipWithError("recorded data not found (set FREESPACE_DATA_DIR)");
-    return;
-  }
+  auto input = StageInputOrSkip(state, 300);
+  if (!input) return;
   Config config = input->config;
   config.polygon.shape = PolygonShape::kInside;
   config.polygon.mover_memory_s = 3.0;
@@ -226,11 +218,8 @@ void BM_MoverObserve(benchmark::State& state) {
 
 // Deskew() alone on that scan's 2093 kept echoes and 581 beams (each iteration moves them again).
 void BM_Deskew(benchmark::State& state) {
-  auto input = MakeStageInput(300);
-  if (!input) {
-    state.SkipWithError("recorded data not found (set FREESPACE_DATA_DIR)");
-    return;
-  }
+  auto input = StageInputOrSkip(state, 300);
+  if (!input) return;
   Config config = input->config;
   config.sensor.sweep_s = 0.016;
   Preprocessor preprocess(config);

@@ -314,10 +314,11 @@ TEST(ConfigDocs, ScalaYamlSetsEveryFieldToItsDefaultButTheNamedOnes) {
   const Config scala = test::LoadProjectConfig("scala.yaml");
   const YAML::Node values = YAML::Load(scala.ToYaml()), defaults = YAML::Load(Config().ToYaml());
   const std::set<std::string> not_default = {
-      "sensor.mount_x_m",        "sensor.sweep_s",           "polygon.shape",
-      "polygon.max_vertices",    "polygon.epsilon_m",        "polygon.margin_cells",
-      "polygon.margin_cone_deg", "polygon.face_tolerance_m", "polygon.mover_memory_s",
-      "sensor_model.free_on_outline"};
+      "sensor.mount_x_m",        "sensor.sweep_s",
+      "polygon.shape",           "polygon.max_vertices",
+      "polygon.epsilon_m",       "polygon.margin_cells",
+      "polygon.margin_cone_deg", "polygon.face_tolerance_m",
+      "polygon.mover_memory_s",  "sensor_model.free_on_outline"};
   for (const std::string& name : ConfigFieldNames()) {
     const std::string section = name.substr(0, name.find('.'));
     const std::string field = name.substr(name.find('.') + 1);

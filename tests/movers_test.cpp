@@ -38,8 +38,8 @@ double Hit(const Box& box, double ox, double oy, double dx, double dy) {
 
 // A ScaLa-like scan (145 deg at 0.25 deg; or `count` beams from `first_deg`) of `boxes` from
 // `pose`: the nearest hit of each beam.
-std::vector<Beam> ScanOf(const std::vector<Box>& boxes, const Pose2D& pose, double first_deg = -72.5,
-                         int count = 581) {
+std::vector<Beam> ScanOf(const std::vector<Box>& boxes, const Pose2D& pose,
+                         double first_deg = -72.5, int count = 581) {
   std::vector<Beam> beams;
   for (int i = 0; i < count; ++i) {
     const double a = (first_deg + 0.25 * i) * M_PI / 180.0;
@@ -210,9 +210,10 @@ TEST(MoverLayer, OvertakenTruck) {
 // A scanner all around, its beams from 90 to 450 deg (so they cross 180 deg), sees a car cross in
 // front of it, in the part of the scan past 180 deg: the outline runs on, and the car is followed.
 TEST(MoverLayer, ApertureAcross180Deg) {
-  const std::vector<Box> walls = {
-      {-21.0, -21.0, 21.0, -20.0}, {-21.0, 20.0, 21.0, 21.0}, {-21.0, -20.0, -20.0, 20.0},
-      {20.0, -20.0, 21.0, 20.0}};
+  const std::vector<Box> walls = {{-21.0, -21.0, 21.0, -20.0},
+                                  {-21.0, 20.0, 21.0, 21.0},
+                                  {-21.0, -20.0, -20.0, 20.0},
+                                  {20.0, -20.0, 21.0, 20.0}};
   MoverTracker movers(Rule());
   const Pose2D sensor{0.0, 0.0, 0.0};
   for (int k = 0; k <= 40; ++k) {
