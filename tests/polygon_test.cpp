@@ -99,6 +99,27 @@ TEST(Polygon, KeepsTheVehicleInside) {
   EXPECT_NE(std::find(kept.begin(), kept.end(), 4), kept.end());
 }
 
+TEST(Polygon, InwardWeightSplitsAtVerticesAnEdgeWouldCutOff) {
+  // A 20 x 20 square around the vehicle with a dent 0.5 in and a bump 0.5 out on its bottom
+  // side, epsilon 1: the paper's simplification drops both; with the inward weight the dent
+  // counts 50 and is kept, the bump (0.5 out) is still dropped.
+  const std::vector<Vec2> ring = {{0, 0},     {5, 0},  {6, 0.5}, {7, 0},   {13, 0},
+                                  {14, -0.5}, {15, 0}, {20, 0},  {20, 20}, {0, 20}};
+  const int dent = 2, bump = 5;
+  const Vec2 vehicle(10, 10);
+  for (const double weight : {1.0, 100.0}) {
+    PolygonSimplifier s(32, 1.0);
+    s.set_inward_weight(weight);
+    std::vector<int> kept;
+    const double error = s.Simplify(ring, vehicle, &kept);
+    const bool has_dent = std::find(kept.begin(), kept.end(), dent) != kept.end();
+    EXPECT_EQ(has_dent, weight > 1.0) << "weight " << weight;
+    EXPECT_EQ(std::find(kept.begin(), kept.end(), bump), kept.end()) << "weight " << weight;
+    EXPECT_NEAR(error, MaxDeviation(ring, kept), 1e-12);  // the true distance, not weighted
+    EXPECT_LE(error, 1.0);
+  }
+}
+
 TEST(Polygon, AtLeastThreeVerticesAndSmallRingsUnchanged) {
   std::vector<int> kept;
   PolygonSimplifier s(32, 100.0);
@@ -263,6 +284,80 @@ TEST(InsidePolygon, PullsACappedEdgeInFrontOfTheObstacleItCuts) {
     }
     EXPECT_LE(north, 10.0 + 1e-9) << "N " << n;
     EXPECT_GT(north, 5.5) << "N " << n;
+  }
+}
+
+// Whether the segment from p to q meets the open square of cell (col, row) (Liang-Barsky).
+bool SegmentMeetsCell(const Vec2& p, const Vec2& q, int col, int row) {
+  double t0 = 0.0, t1 = 1.0;
+  const Vec2 d = q - p;
+  const double lo[2] = {double(col), double(row)}, hi[2] = {col + 1.0, row + 1.0};
+  for (int axis = 0; axis < 2; ++axis) {
+    if (d[axis] == 0.0) {
+      if (p[axis] <= lo[axis] || p[axis] >= hi[axis]) return false;
+      continue;
+    }
+    double a = (lo[axis] - p[axis]) / d[axis], b = (hi[axis] - p[axis]) / d[axis];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+  }
+  return t0 < t1;
+}
+
+// Area of the border centres' square that the sensor sees past every blocked cell but
+// `polygon` leaves out (cells^2, points every 0.1 cell off any line through a cell corner).
+double SeenButLeftOut(const std::vector<Vec2>& polygon, const std::vector<std::uint8_t>& free,
+                      int size, const Vec2& sensor) {
+  std::vector<CellIndex> blocked;
+  for (int r = 0; r < size; ++r) {
+    for (int c = 0; c < size; ++c) {
+      if (!free[std::size_t(r) * size + c]) blocked.push_back(CellIndex{r, c});
+    }
+  }
+  double lost = 0.0;
+  for (double y = 0.5537; y < size - 0.5; y += 0.1) {
+    for (double x = 0.5519; x < size - 0.5; x += 0.1) {
+      const Vec2 p(x, y);
+      if (PointInPolygon(polygon, p)) continue;
+      bool seen = true;
+      for (const CellIndex& b : blocked) seen = seen && !SegmentMeetsCell(sensor, p, b.col, b.row);
+      if (seen) lost += 0.01;
+    }
+  }
+  return lost;
+}
+
+TEST(InsidePolygon, KeepsWhatTheSensorSeesPastObstacles) {
+  // Blocked cells near the sensor in an open map: a pole, and a wall of cells running at 45
+  // deg. The polygon keeps what the sensor sees but for slivers along the shadows' sides (the
+  // rays are a border cell apart): the ring goes round the corners that poke between two rays
+  // instead of pulling their ends in.
+  const int size = 41;
+  std::vector<std::uint8_t> free(std::size_t(size) * size, 1);
+  free[std::size_t(22) * size + 23] = 0;
+  for (int i = 0; i < 6; ++i) free[std::size_t(12 + i) * size + 14 + i] = 0;
+  for (const Vec2& sensor : {Vec2(20.3, 19.6), Vec2(20.5, 20.5), Vec2(18.2, 21.7)}) {
+    const Inside in(free, size, size, sensor, 4096, 0.0);
+    ASSERT_TRUE(in.built);
+    EXPECT_LE(AreaOnNotFree(in.polygon, free, size, size), 1e-9);
+    ExpectStarShaped(in.polygon, in.at());
+    // The ring passes through the pole's two silhouette corners.
+    const std::vector<Vec2> corners = {Vec2(23, 22), Vec2(24, 22), Vec2(24, 23), Vec2(23, 23)};
+    const auto angle = [&](const Vec2& c) {
+      return std::atan2(c.y() - sensor.y(), c.x() - sensor.x());
+    };
+    const auto by_angle = [&](const Vec2& p, const Vec2& q) { return angle(p) < angle(q); };
+    for (const Vec2& silhouette : {*std::min_element(corners.begin(), corners.end(), by_angle),
+                                   *std::max_element(corners.begin(), corners.end(), by_angle)}) {
+      const std::vector<Vec2>& ring = in.builder.ring();
+      EXPECT_TRUE(std::any_of(ring.begin(), ring.end(),
+                              [&](const Vec2& v) { return (v - silhouette).norm() < 1e-9; }))
+          << "sensor " << sensor.transpose() << " corner " << silhouette.transpose();
+    }
+    // Slivers only: at most a cell wide at the border along each of the four shadow sides.
+    EXPECT_LT(SeenButLeftOut(in.polygon, free, size, sensor), 30.0)
+        << "sensor " << sensor.transpose();
   }
 }
 

@@ -8,9 +8,11 @@
 // edge meets are the only ones to test. In the triangle's barycentric coordinates (alpha along
 // a, beta along b) the least alpha + beta over such a cell's part inside the wedge is the
 // largest factor by which a and b may be scaled toward the sensor together without touching
-// it; moving only b, or only a, has a bound of its own. Moving a vertex toward the sensor along
-// its ray only shrinks the triangles on both sides of it, so each vertex takes the smaller
-// factor of its two edges and every triangle stays inside its clear one.
+// it; moving only b, or only a, has a bound of its own. Each triangle keeps its own factors: the
+// ring reaches a ray's end at the factor of the triangle before it and leaves at the factor of
+// the triangle after it, along the ray, which is clear up to its end. So the side of a shadow
+// is a step along one ray, and a far end pulled in for the pole beside it keeps its other
+// triangle whole.
 //
 // The simplified polygon's edges are then held inside the ring: a triangle (sensor, a, b) of
 // the simplified polygon lies within the ring's fan triangles between a and b when every ring
@@ -22,11 +24,13 @@
 #include <cmath>
 
 #include "core/backend.hpp"
+#include "core/fan_pull.hpp"
 
 namespace freespace {
 namespace {
 
-double Cross(const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); }
+using fan::Cross;
+using fan::kAreaTolerance;
 
 // floor(x) for |x| < 2^31, without a library call.
 int Floor(double x) {
@@ -34,131 +38,22 @@ int Floor(double x) {
   return i - (x < i);
 }
 
-// Below this area (cells^2) a triangle or an overlap counts as none: rounding only.
-constexpr double kAreaTolerance = 1e-9;
 // Cells within this distance of an edge are tested: rounding must not hide a crossed one.
 constexpr double kReach = 1e-7;
-// A cell whose part in a triangle lies within this fraction of the far edge is beyond it: the
-// strip holds less than 1e-6 cells^2 of any triangle in a map of 8192 x 8192 cells.
-constexpr double kEdgeTolerance = 1e-14;
-
-// A convex polygon in (alpha, beta) coordinates, at most 8 vertices (a square cut by three
-// half-planes).
-struct Clip {
-  double v[8][2];
-  int n = 0;
-  // Keeps the part where c0 + c1 * alpha + c2 * beta >= 0 (Sutherland-Hodgman).
-  void Cut(double c0, double c1, double c2) {
-    double f[8];
-    bool all_in = true, all_out = true;
-    for (int i = 0; i < n; ++i) {
-      f[i] = c0 + c1 * v[i][0] + c2 * v[i][1];
-      all_in = all_in && f[i] >= 0;
-      all_out = all_out && f[i] < 0;
-    }
-    if (all_in) return;
-    if (all_out) {
-      n = 0;
-      return;
-    }
-    double out[8][2];
-    int m = 0;
-    for (int i = 0; i < n; ++i) {
-      const int j = i + 1 < n ? i + 1 : 0;
-      const double* p = v[i];
-      const double* q = v[j];
-      const double fp = f[i], fq = f[j];
-      if (fp >= 0) {
-        out[m][0] = p[0];
-        out[m][1] = p[1];
-        ++m;
-      }
-      if ((fp >= 0) != (fq >= 0)) {
-        const double f = fp / (fp - fq);
-        out[m][0] = p[0] + f * (q[0] - p[0]);
-        out[m][1] = p[1] + f * (q[1] - p[1]);
-        ++m;
-      }
-    }
-    n = m;
-    for (int i = 0; i < n; ++i) {
-      v[i][0] = out[i][0];
-      v[i][1] = out[i][1];
-    }
-  }
-  double Area() const {
-    double a = 0.0;
-    for (int i = 0; i < n; ++i) {
-      const int j = i + 1 < n ? i + 1 : 0;
-      a += v[i][0] * v[j][1] - v[i][1] * v[j][0];
-    }
-    return 0.5 * std::abs(a);
-  }
-};
-
-// The three bounds of PullBetweenRays, each 1 until a cell limits it.
-struct PullBounds {
-  double both = 1.0, only_a = 1.0, only_b = 1.0;
-
-  // Limits them by cell (row, col), which lies outside the mask, for the triangle (sensor,
-  // sensor + u, sensor + v) of twice the area det > 0.
-  void Limit(int row, int col, const Vec2& sensor, const Vec2& u, const Vec2& v, double det) {
-    // Wholly beyond the edge u -> v (up to rounding: the cells a ray ended on): nothing to
-    // limit. The edge's normal towards the sensor, against each corner.
-    const Vec2 normal(u.y() - v.y(), v.x() - u.x());  // (v - u) turned left
-    const double reach = kEdgeTolerance * det;        // det = normal . (0 - u) relative
-    const Vec2 corners[4] = {Vec2(col, row) - sensor, Vec2(col + 1, row) - sensor,
-                             Vec2(col + 1, row + 1) - sensor, Vec2(col, row + 1) - sensor};
-    bool near = false;
-    for (const Vec2& w : corners) near = near || normal.dot(w - u) > reach;
-    if (!near) return;
-    // The corners in (alpha, beta), divided by det: a corner on a ray's end (a ray that
-    // ended at a cell corner) gets exactly alpha = 1 or beta = 1.
-    Clip cell;
-    double least = INFINITY;
-    for (const Vec2& w : corners) {
-      double* ab = cell.v[cell.n++];
-      ab[0] = Cross(w, v) / det;
-      ab[1] = Cross(u, w) / det;
-      least = std::min(least, ab[0] + ab[1]);
-    }
-    if (least >= 1.0 - kEdgeTolerance) return;
-    cell.Cut(0, 1, 0);  // alpha >= 0
-    cell.Cut(0, 0, 1);  // beta >= 0
-    // The overlap's area in cells^2 is det times its area in (alpha, beta).
-    if (cell.n < 3 || cell.Area() * det <= kAreaTolerance) return;
-    for (int i = 0; i < cell.n; ++i) both = std::min(both, cell.v[i][0] + cell.v[i][1]);
-    Clip near_a = cell;    // alpha <= 1: beta / (1 - alpha) is constant along edges ending at
-    near_a.Cut(1, -1, 0);  // alpha = 1, so the least lies at a vertex with alpha < 1
-    for (int i = 0; i < near_a.n; ++i) {
-      if (near_a.v[i][0] < 1.0) only_b = std::min(only_b, near_a.v[i][1] / (1.0 - near_a.v[i][0]));
-    }
-    Clip near_b = cell;
-    near_b.Cut(1, 0, -1);
-    for (int i = 0; i < near_b.n; ++i) {
-      if (near_b.v[i][1] < 1.0) only_a = std::min(only_a, near_b.v[i][0] / (1.0 - near_b.v[i][1]));
-    }
-  }
-
-  // The choice that keeps the most of the triangle (its area scales with scale_a * scale_b).
-  void Choose(double* scale_a, double* scale_b) const {
-    const double b0 = std::clamp(both, 0.0, 1.0), a1 = std::clamp(only_a, 0.0, 1.0);
-    const double b1 = std::clamp(only_b, 0.0, 1.0);
-    *scale_a = *scale_b = b0;
-    if (b1 > b0 * b0 && b1 >= a1) {
-      *scale_a = 1.0;
-      *scale_b = b1;
-    } else if (a1 > b0 * b0) {
-      *scale_a = a1;
-      *scale_b = 1.0;
-    }
-  }
-};
+// The simplification splits at a ring vertex its edge would cut off (pulling the edge in
+// afterwards) before it spends a vertex on one the edge only passes outside: a vertex inside
+// counts this many times its distance. Over the urban drive, weights of 1, 10 and 100 left
+// 6.3 %, 4.8 % and 4.1 % of the area in sight out of the polygon though in the mask and
+// clear of shadows; 1000 and more changed nothing.
+constexpr double kInwardWeight = 100.0;
+// At most this many blocked cells between two rays are gone round; beyond, the pair is pulled.
+constexpr std::size_t kMaxBlocked = 16;
 
 }  // namespace
 
 InsidePolygonBuilder::InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon)
     : width_(width), height_(height), simplifier_(max_vertices, epsilon) {
+  simplifier_.set_inward_weight(kInwardWeight);
   // One ray per distinct border cell: the corner cells, which two labels share, once.
   const int labels = BorderLabelCount(height, width);
   const CellIndex first = BorderCell(0, height, width);
@@ -169,25 +64,31 @@ InsidePolygonBuilder::InsidePolygonBuilder(int width, int height, int max_vertic
     last = cell;
     labels_.push_back(l);
   }
-  ring_.reserve(2 * labels_.size());
+  ring_.reserve(4 * labels_.size());  // per ray: its end in and out, a corner in and out
   end_.reserve(labels_.size());
   end_stop_.resize(labels_.size());
   need_a_.resize(labels_.size());
   need_b_.resize(labels_.size());
   corner_.resize(labels_.size());
   corner_at_.resize(labels_.size());
+  split_in_at_.resize(labels_.size());
+  split_out_at_.resize(labels_.size());
+  blocked_.reserve(kMaxBlocked);
   kept_.reserve(std::size_t(std::max(max_vertices, 3)) + 1);
   scale_.reserve(std::size_t(std::max(max_vertices, 3)) + 1);
 }
 
 void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sensor, const Vec2& a,
                                            const Vec2& b, const NearSide& near, double* scale_a,
-                                           double* scale_b) const {
+                                           double* scale_b) {
   *scale_a = *scale_b = 1.0;
+  split_ = false;
   const Vec2 u = a - sensor, v = b - sensor;
   const double det = Cross(u, v);     // twice the triangle's area
   if (det <= kAreaTolerance) return;  // no area: the edge runs along its rays
-  PullBounds bounds;
+  FanPull bounds;
+  blocked_.clear();
+  blocked_overflow_ = false;
   const double y0 = std::min(a.y(), b.y()) - kReach, y1 = std::max(a.y(), b.y()) + kReach;
   const int r0 = std::max(near.row_min, int(Floor(y0)));
   const int r1 = std::min(near.row_max, int(Floor(y1)));
@@ -197,10 +98,10 @@ void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sen
     // A short edge (the common one: two rays on one wall): every cell of its box.
     for (int r = r0; r <= r1; ++r) {
       for (int c = c0; c <= c1; ++c) {
-        if (!mask.Allowed(c, r)) bounds.Limit(r, c, sensor, u, v, det);
+        if (!mask.Allowed(c, r)) Block(r, c, sensor, u, v, det, &bounds);
       }
     }
-    bounds.Choose(scale_a, scale_b);
+    Settle(sensor, a, b, bounds, scale_a, scale_b);
     return;
   }
   // A long edge: the cells it meets, a row at a time, found 64 cells a word.
@@ -223,12 +124,63 @@ void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sen
       if (w == from >> 6) blocked &= ~std::uint64_t{0} << (from & 63);
       if (w == to >> 6) blocked &= ~std::uint64_t{0} >> (63 - (to & 63));
       while (blocked != 0) {
-        bounds.Limit(r, w * 64 + __builtin_ctzll(blocked), sensor, u, v, det);
+        Block(r, w * 64 + __builtin_ctzll(blocked), sensor, u, v, det, &bounds);
         blocked &= blocked - 1;
       }
     }
   }
+  Settle(sensor, a, b, bounds, scale_a, scale_b);
+}
+
+void InsidePolygonBuilder::Block(int row, int col, const Vec2& sensor, const Vec2& u, const Vec2& v,
+                                 double det, FanPull* bounds) {
+  if (!bounds->Limit(row, col, sensor, u, v, det)) return;  // reaches no part of the triangle
+  if (blocked_.size() < blocked_.capacity()) {
+    blocked_.push_back(CellIndex{row, col});
+  } else {
+    blocked_overflow_ = true;
+  }
+}
+
+void InsidePolygonBuilder::Settle(const Vec2& sensor, const Vec2& a, const Vec2& b,
+                                  const FanPull& bounds, double* scale_a, double* scale_b) {
   bounds.Choose(scale_a, scale_b);
+  split_ = false;
+  if (blocked_.empty() || blocked_overflow_) return;
+  // Going round the corner c of a blocked cell that pokes in deepest (least alpha + beta; the
+  // silhouette of the cell that casts a shadow): the triangles (a, c) and (c, b), each pulled
+  // on its own, often keep far more. Trying every corner kept no more over the urban drive.
+  const Vec2 u = a - sensor, v = b - sensor;
+  const double det = Cross(u, v);
+  double deepest = det;
+  Vec2 at = Vec2::Zero();
+  for (const CellIndex& cell : blocked_) {
+    for (int corner = 0; corner < 4; ++corner) {
+      const Vec2 c(cell.col + (corner == 1 || corner == 2), cell.row + (corner >= 2));
+      const double da = Cross(u, c - sensor), db = Cross(c - sensor, v);
+      if (da <= kAreaTolerance || db <= kAreaTolerance || da + db >= deepest) continue;
+      deepest = da + db;
+      at = c;
+    }
+  }
+  if (deepest >= det) return;
+  const Vec2 w = at - sensor;
+  const double da = Cross(u, w), db = Cross(w, v);
+  FanPull first, second;
+  for (const CellIndex& cell : blocked_) {
+    first.Limit(cell.row, cell.col, sensor, u, w, da);
+    second.Limit(cell.row, cell.col, sensor, w, v, db);
+  }
+  double a1, c1, c2, b2;
+  first.Choose(&a1, &c1);
+  second.Choose(&c2, &b2);
+  if (da * a1 * c1 + db * c2 * b2 <= det * *scale_a * *scale_b) return;
+  split_ = true;
+  split_at_ = at;
+  split_in_ = c1;
+  split_out_ = c2;
+  *scale_a = a1;
+  *scale_b = b2;
 }
 
 void InsidePolygonBuilder::PullInsideRing(const Vec2& sensor, int i, int j, double* scale_a,
@@ -237,7 +189,7 @@ void InsidePolygonBuilder::PullInsideRing(const Vec2& sensor, int i, int j, doub
   const Vec2 a = ring_[std::size_t(i)] - sensor, b = ring_[std::size_t(j)] - sensor;
   const double det = Cross(a, b);
   *scale_a = *scale_b = 1.0;
-  PullBounds bounds;
+  FanPull bounds;
   if (det <= kAreaTolerance) {
     // Half a turn or more, or no area: the edge cannot pass the ring on its far side.
     if (det < -kAreaTolerance) bounds.both = bounds.only_a = bounds.only_b = 0.0;
@@ -371,16 +323,32 @@ void InsidePolygonBuilder::BetweenRays(const MaskView& mask, const Vec2& sensor,
   }
   PullBetweenRays(mask, sensor, end_[std::size_t(k)], end_[std::size_t(next)], Near(sensor, a, b),
                   &need_a_[std::size_t(k)], &need_b_[std::size_t(k)]);
+  if (split_) {
+    corner_[std::size_t(k)] = 2;
+    corner_at_[std::size_t(k)] = split_at_;
+    split_in_at_[std::size_t(k)] = split_in_;
+    split_out_at_[std::size_t(k)] = split_out_;
+  }
 }
 
 void InsidePolygonBuilder::AssembleRing(const Vec2& sensor) {
   const int m = int(end_.size());
   ring_.clear();
   for (int k = 0; k < m; ++k) {
-    const double scale =
-        std::min(need_a_[std::size_t(k)], need_b_[std::size_t(k > 0 ? k - 1 : m - 1)]);
-    ring_.push_back(sensor + scale * (end_[std::size_t(k)] - sensor));
-    if (corner_[std::size_t(k)]) ring_.push_back(corner_at_[std::size_t(k)]);
+    // Each triangle keeps its own pull: the ring comes in to ray k's end at the scale the
+    // triangle before it allows and leaves from the scale the one after it allows, running
+    // along the ray between the two (clear up to its end). A shadow's side is such a step.
+    const Vec2 d = end_[std::size_t(k)] - sensor;
+    const double in = need_b_[std::size_t(k > 0 ? k - 1 : m - 1)], out = need_a_[std::size_t(k)];
+    ring_.push_back(sensor + in * d);
+    if (out != in) ring_.push_back(sensor + out * d);
+    if (corner_[std::size_t(k)] == 1) ring_.push_back(corner_at_[std::size_t(k)]);
+    if (corner_[std::size_t(k)] == 2) {  // round a blocked cell's corner, pulled on each side
+      const Vec2 c = corner_at_[std::size_t(k)] - sensor;
+      const double c_in = split_in_at_[std::size_t(k)], c_out = split_out_at_[std::size_t(k)];
+      ring_.push_back(sensor + c_in * c);
+      if (c_out != c_in) ring_.push_back(sensor + c_out * c);
+    }
   }
   Compact();
 }

@@ -1,7 +1,9 @@
 // Capped Douglas-Peucker on a closed ring. The ring is first cut at vertex 0 and the vertex
 // farthest from it; then the segment whose farthest vertex deviates most is split, one vertex
 // at a time, until every dropped vertex is within epsilon (the classic stop) or N vertices are
-// kept (the paper's added stop). Segments live in a fixed array: no allocation per call.
+// kept (the paper's added stop). With an inward weight above 1 (the conservative polygon) a
+// vertex left of its segment deviates that many times its distance. Segments live in a fixed
+// array: no allocation per call.
 #include "core/simplifier.hpp"
 
 #include <algorithm>
@@ -42,25 +44,31 @@ PolygonSimplifier::Segment PolygonSimplifier::Measure(const std::vector<Vec2>& r
   Segment s;
   s.from = from;
   s.length = length;
-  // DistanceToSegment of every vertex strictly inside, squared (the farthest is the same),
+  // DistanceToSegment of every vertex strictly between its ends, squared (the order is the same),
   // with the segment's direction and length worked out once.
   const Vec2 a = ring[std::size_t(from)];
   const Vec2 ab = ring[std::size_t((from + length) % n)] - a;
   const double len2 = ab.squaredNorm(), inverse = len2 > 0.0 ? 1.0 / len2 : 0.0;
-  double farthest = -1.0;
+  double farthest = 0.0, first = -1.0;
+  const double inward2 = inward_weight_ * inward_weight_;
   const auto visit = [&](int i) {
     const Vec2 ap = ring[std::size_t(i)] - a;
     const double t = std::clamp(ap.dot(ab) * inverse, 0.0, 1.0);
     const double d2 = (ap - t * ab).squaredNorm();
-    if (d2 > farthest) {
-      farthest = d2;
+    const double key = ab.x() * ap.y() - ab.y() * ap.x() > 0.0 ? d2 * inward2 : d2;
+    farthest = std::max(farthest, d2);
+    if (key > first) {
+      first = key;
       s.worst = i;
     }
   };
   const int end = from + length;  // exclusive, may run past the ring's end
   for (int i = from + 1; i < std::min(end, n); ++i) visit(i);
   for (int i = 0; i < end - n; ++i) visit(i);
-  if (s.worst >= 0) s.deviation = std::sqrt(farthest);
+  if (s.worst >= 0) {
+    s.priority = std::sqrt(first);
+    s.deviation = std::sqrt(farthest);
+  }
   return s;
 }
 
@@ -161,12 +169,12 @@ double PolygonSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& in
   while (count < max_vertices_) {
     int s = -1;
     for (int k = 0; k < int(segments_.size()); ++k) {
-      if (segments_[k].worst >= 0 && (s < 0 || segments_[k].deviation > segments_[s].deviation)) {
+      if (segments_[k].worst >= 0 && (s < 0 || segments_[k].priority > segments_[s].priority)) {
         s = k;
       }
     }
     if (s < 0) break;
-    if (segments_[s].deviation <= epsilon_ && count >= 3) break;
+    if (segments_[s].priority <= epsilon_ && count >= 3) break;
     Split(ring, s, segments_[s].worst);
     ++count;
   }

@@ -16,6 +16,8 @@
 
 namespace freespace {
 
+struct FanPull;
+
 // The polygon mask as bitset rows: bit c % 64 of word c / 64 of row r (rows `words` words
 // apart) is 1 where cell (r, c) may lie in the polygon.
 struct MaskView {
@@ -59,7 +61,14 @@ class InsidePolygonBuilder {
   // the mask, where a and b are neighbouring rays' ends: only cells the edge a -> b meets, on
   // the `near` side, can reach inside.
   void PullBetweenRays(const MaskView& mask, const Vec2& sensor, const Vec2& a, const Vec2& b,
-                       const NearSide& near, double* scale_a, double* scale_b) const;
+                       const NearSide& near, double* scale_a, double* scale_b);
+  // Limits `bounds` by a cell outside the mask and keeps it in blocked_ when it reaches into
+  // the triangle (sensor, sensor + u, sensor + v).
+  void Block(int row, int col, const Vec2& sensor, const Vec2& u, const Vec2& v, double det,
+             FanPull* bounds);
+  // The pair's scales from `bounds`, or a corner of a blocked cell to go round (split_).
+  void Settle(const Vec2& sensor, const Vec2& a, const Vec2& b, const FanPull& bounds,
+              double* scale_a, double* scale_b);
   // The same for a simplified edge from ring vertex i to ring vertex j: the triangle must stay
   // inside the ring's fan triangles i .. j.
   void PullInsideRing(const Vec2& sensor, int i, int j, double* scale_a, double* scale_b) const;
@@ -81,8 +90,15 @@ class InsidePolygonBuilder {
   std::vector<Vec2> end_;                // where each ray ended
   std::vector<RayStop> end_stop_;        // and how
   std::vector<double> need_a_, need_b_;  // per pair of rays: the scales of the first / second end
-  std::vector<std::uint8_t> corner_;     // per pair of rays: a corner to go round
+  std::vector<std::uint8_t> corner_;     // per pair of rays: a corner to go round (1), or a
+                                         // blocked cell's corner with scales of its own (2)
   std::vector<Vec2> corner_at_;          // and where
+  std::vector<double> split_in_at_, split_out_at_;  // (2): the corner's scales
+  std::vector<CellIndex> blocked_;  // the blocked cells between the pair being pulled
+  bool blocked_overflow_ = false;
+  bool split_ = false;  // the last Settle() went round split_at_
+  Vec2 split_at_;
+  double split_in_ = 1.0, split_out_ = 1.0;
   std::vector<Vec2> ring_;
   std::vector<int> kept_;
   std::vector<double> scale_;

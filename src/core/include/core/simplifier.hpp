@@ -14,6 +14,11 @@ class PolygonSimplifier {
   // max_vertices: N (>= 3); epsilon: tolerance in the units of the ring (cells).
   PolygonSimplifier(int max_vertices, double epsilon);
 
+  // Weight of a vertex's distance when it lies on the left of the segment (inside a
+  // counter-clockwise ring): 1 (the paper's Douglas-Peucker) or more, so that a vertex the
+  // simplified edge would cut off counts that much farther.
+  void set_inward_weight(double weight) { inward_weight_ = weight; }
+
   // Simplifies the closed, counter-clockwise `ring`. Writes the indices of the kept vertices
   // (ring order) into `kept`. First splits edges until `inside` (the vehicle) is left of every
   // edge, then splits the farthest-deviating vertex while its deviation exceeds epsilon and
@@ -23,10 +28,11 @@ class PolygonSimplifier {
 
  private:
   struct Segment {
-    int from = 0;    // ring index of the first vertex
-    int length = 0;  // steps to the last vertex (wrapping around the ring)
-    int worst = -1;  // ring index of the farthest vertex strictly inside, -1 when none
-    double deviation = 0.0;
+    int from = 0;            // ring index of the first vertex
+    int length = 0;          // steps to the last vertex (wrapping around the ring)
+    int worst = -1;          // ring index of the interior vertex to split at first, -1 when none
+    double priority = 0.0;   // its distance from the segment, weighted when inward
+    double deviation = 0.0;  // the largest distance of an interior vertex from the segment
   };
   Segment Measure(const std::vector<Vec2>& ring, int from, int length) const;
   // Replaces segment s by two, meeting at ring vertex `vertex`.
@@ -39,6 +45,7 @@ class PolygonSimplifier {
 
   int max_vertices_;
   double epsilon_;
+  double inward_weight_ = 1.0;
   std::vector<Segment> segments_;
 };
 
