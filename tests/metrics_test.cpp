@@ -149,6 +149,18 @@ TEST(Metrics, PolygonIntrusionAndCoverageByHand) {
     EXPECT_TRUE(std::isnan(b.coverage));
     EXPECT_TRUE(std::isnan(b.coverage_mask));
     EXPECT_DOUBLE_EQ(b.coverage_seen, 3.0 / 14.0);
+    EXPECT_TRUE(std::isnan(m.coverage_star));  // no centre given
+  }
+  {
+    // Star-shaped around (0.5, 0.7): the occupied cell (1, 1) hides the centres of (1, 2),
+    // (1, 3), (2, 1), (2, 2), (2, 3) and (3, 2) (row, col) from it; 8 of the 14 reference
+    // cells remain, 9 when the polygon covers one hidden cell whole: it reached it.
+    const Vec2 centre(0.5, 0.7);
+    const ScanMetrics none = QualityEvaluator().Evaluate(map.view, {}, truth, centre);
+    EXPECT_DOUBLE_EQ(none.reference_star_m2, 8.0);
+    EXPECT_DOUBLE_EQ(none.coverage_star, 8.0 / 14.0);
+    const ScanMetrics one = QualityEvaluator().Evaluate(map.view, Box(2, 1, 3, 2), truth, centre);
+    EXPECT_DOUBLE_EQ(one.reference_star_m2, 9.0);
   }
   {
     // A polygon covering a quarter of the obstacle's cell: [0.5, 1.5]^2. Intrusion 0.25 m^2 on

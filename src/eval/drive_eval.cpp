@@ -15,7 +15,7 @@ namespace {
 constexpr const char* kMetrics[] = {
     "accuracy",          "false_free_rate",        "intrusion_m2", "intrusion_moving_m2",
     "intrusion_mask_m2", "intrusion_geometric_m2", "coverage",     "coverage_mask",
-    "coverage_seen"};
+    "coverage_star",     "coverage_seen"};
 constexpr const char* kStages[] = {"preprocess", "align",   "rasterize", "fuse", "classify",
                                    "mask",       "insight", "polygon",   "total"};
 

@@ -102,6 +102,8 @@ nlohmann::json ScanMetrics::ToJson() const {
           {"coverage", Number(coverage)},
           {"reference_in_mask_m2", reference_in_mask_m2},
           {"coverage_mask", Number(coverage_mask)},
+          {"reference_star_m2", reference_star_m2},
+          {"coverage_star", Number(coverage_star)},
           {"reference_seen_m2", reference_seen_m2},
           {"covered_seen_m2", covered_seen_m2},
           {"coverage_seen", Number(coverage_seen)}};
@@ -204,8 +206,40 @@ void QualityEvaluator::See(const MapView& map, const Polygon& visible) {
   FillCentres(ToCells(visible, map), w, h, &seen_, &crossings_);
 }
 
+namespace {
+
+// Whether the straight line from `from` (map cells) to the centre of cell (row, col) passes
+// through free-mask cells only, leaving out the cell it starts in and the cell itself (a grid
+// walk; at a grid corner it steps along x first).
+bool SeesThroughFree(const MapView& map, const Vec2& from, int row, int col) {
+  const Vec2 to(col + 0.5, row + 0.5);
+  const Vec2 d = to - from;
+  int c = int(std::floor(from.x())), r = int(std::floor(from.y()));
+  const int step_c = d.x() > 0 ? 1 : -1, step_r = d.y() > 0 ? 1 : -1;
+  const double dx = std::abs(d.x()), dy = std::abs(d.y());
+  // The line's parameter at the next vertical and horizontal grid line, and per cell.
+  double next_x = dx > 0 ? ((step_c > 0 ? c + 1 - from.x() : from.x() - c) / dx) : INFINITY;
+  double next_y = dy > 0 ? ((step_r > 0 ? r + 1 - from.y() : from.y() - r) / dy) : INFINITY;
+  const double per_x = dx > 0 ? 1.0 / dx : INFINITY, per_y = dy > 0 ? 1.0 / dy : INFINITY;
+  while (!(c == col && r == row)) {
+    if (next_x <= next_y) {
+      c += step_c;
+      next_x += per_x;
+    } else {
+      r += step_r;
+      next_y += per_y;
+    }
+    if (c == col && r == row) break;
+    if (c < 0 || r < 0 || c >= map.width || r >= map.height) return false;
+    if (!map.free[std::size_t(r) * map.width + c]) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec2>& polygon,
-                                       const TruthFrame& truth) {
+                                       const TruthFrame& truth, const Vec2& centre) {
   Cover(map, truth);
   PolygonCells(map, polygon);
   See(map, truth.visible);
@@ -218,7 +252,8 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
 
   ScanMetrics m;
   double intrusion = 0.0, intrusion_moving = 0.0, intrusion_mask = 0.0, reference = 0.0,
-         covered = 0.0, reference_seen = 0.0, covered_seen = 0.0, in_mask = 0.0;
+         covered = 0.0, reference_seen = 0.0, covered_seen = 0.0, in_mask = 0.0, star = 0.0;
+  const bool score_star = score_in_sight && std::isfinite(centre.x()) && std::isfinite(centre.y());
   const std::size_t cells = std::size_t(map.width) * map.height;
   for (std::size_t i = 0; i < cells; ++i) {
     const LogOdds l = map.log_odds[i];
@@ -249,6 +284,12 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
         reference += 1.0;
         covered += polygon_[i];
         in_mask += map.free[i] ? 1.0 : 0.0;
+        if (score_star) {
+          const bool sees = map.free[i] && polygon_[i] < 1.0f &&
+                            SeesThroughFree(map, centre, int(i / std::size_t(map.width)),
+                                            int(i % std::size_t(map.width)));
+          star += sees ? 1.0 : polygon_[i];
+        }
       }
       if (seen_[i]) {
         reference_seen += 1.0;
@@ -289,6 +330,8 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
   m.coverage = score_in_sight ? Ratio(covered, reference) : kNaN;
   m.reference_in_mask_m2 = in_mask * cell_area;
   m.coverage_mask = score_in_sight ? Ratio(in_mask, reference) : kNaN;
+  m.reference_star_m2 = star * cell_area;
+  m.coverage_star = score_star ? Ratio(star, reference) : kNaN;
   m.reference_seen_m2 = reference_seen * cell_area;
   m.covered_seen_m2 = covered_seen * cell_area;
   m.coverage_seen = Ratio(covered_seen, reference_seen);
@@ -326,7 +369,7 @@ nlohmann::json MetricsSeries::Summary() const {
   // Sums over all scans, for the pooled ratios.
   double correct = 0, observed = 0, false_free = 0, occupied = 0, moving = 0, majority = 0,
          mask = 0, covered = 0, reference = 0, covered_seen = 0, reference_seen = 0, border = 0,
-         in_mask = 0;
+         in_mask = 0, star = 0;
   for (const ScanMetrics& m : scans_) {
     correct += double(m.correct);
     observed += double(m.observed);
@@ -338,6 +381,7 @@ nlohmann::json MetricsSeries::Summary() const {
     covered += m.covered_free_m2;
     reference += m.reference_free_m2;
     in_mask += m.reference_in_mask_m2;
+    if (!std::isnan(m.coverage_star)) star += m.reference_star_m2;
     covered_seen += m.covered_seen_m2;
     reference_seen += m.reference_seen_m2;
     border += double(m.errors_at_border);
@@ -356,6 +400,8 @@ nlohmann::json MetricsSeries::Summary() const {
   coverage["pooled"] = Number(Ratio(covered, reference));
   nlohmann::json coverage_mask = stats([](const ScanMetrics& m) { return m.coverage_mask; });
   coverage_mask["pooled"] = Number(Ratio(in_mask, reference));
+  nlohmann::json coverage_star = stats([](const ScanMetrics& m) { return m.coverage_star; });
+  coverage_star["pooled"] = Number(Ratio(star, reference));
   nlohmann::json seen = stats([](const ScanMetrics& m) { return m.coverage_seen; });
   seen["pooled"] = Number(Ratio(covered_seen, reference_seen));
   return {
@@ -370,6 +416,7 @@ nlohmann::json MetricsSeries::Summary() const {
       {"intrusion_mask_m2", stats([](const ScanMetrics& m) { return m.intrusion_mask_m2; })},
       {"coverage", coverage},
       {"coverage_mask", coverage_mask},
+      {"coverage_star", coverage_star},
       {"coverage_seen", seen},
       {"polygon_area_m2", stats([](const ScanMetrics& m) { return m.polygon_area_m2; })},
       {"observed_cells", stats([](const ScanMetrics& m) { return double(m.observed); })},

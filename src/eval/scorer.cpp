@@ -55,7 +55,7 @@ ScanMetrics TruthScorer::Score(std::size_t index, const MapView& map, const Resu
   const double reach = std::hypot(map.width, map.height) * map.resolution_m;
   frame_.in_sight = Transform(to_map, SurroundingVisibility(caster_, Vec2(s.sensor.x, s.sensor.y),
                                                             truth_.scanner.resolution_deg, reach));
-  ScanMetrics m = evaluator_.Evaluate(map, result.polygon, frame_);
+  ScanMetrics m = evaluator_.Evaluate(map, result.polygon, frame_, result.vehicle_cells);
   m.scan = s.index;
   m.t = s.t;
   return m;

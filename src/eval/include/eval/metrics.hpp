@@ -4,6 +4,7 @@
 // true visibility polygon of each scan), so the metrics know nothing of the engine's inside.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <vector>
@@ -57,6 +58,11 @@ struct ScanMetrics {
   double reference_in_mask_m2 = 0.0;  // of reference_free_m2, cells the free mask calls free
   double coverage_mask = 0.0;         // reference_in_mask_m2 / reference_free_m2: what a polygon
                                       // drawn on this free mask could cover at most
+  // Of reference_in_mask_m2, the cells the polygon covers or whose centre the polygon's centre
+  // sees through free-mask cells (a straight line): what a polygon star-shaped around that
+  // centre on this free mask could cover at most. NaN without a centre.
+  double reference_star_m2 = 0.0;
+  double coverage_star = 0.0;  // reference_star_m2 / reference_free_m2
   // The same over the truly free, observed cells seen at any scan so far (hidden ones too).
   double reference_seen_m2 = 0.0;
   double covered_seen_m2 = 0.0;
@@ -72,8 +78,10 @@ class QualityEvaluator {
  public:
   // `map`: the estimator's map after the scan; `polygon`: its free-space polygon (world
   // metres); `truth`: the true geometry of the scan in the map's world frame.
+  // `centre`: the point the polygon is star-shaped around, map cells (Result::vehicle_cells);
+  // NaN leaves coverage_star unscored.
   ScanMetrics Evaluate(const MapView& map, const std::vector<Vec2>& polygon,
-                       const TruthFrame& truth);
+                       const TruthFrame& truth, const Vec2& centre = Vec2(NAN, NAN));
   void Reset() { have_seen_ = false; }
 
   // The per-cell results of the last Evaluate() (row-major like the map), for drawing/tests.
