@@ -58,9 +58,10 @@ struct ScanMetrics {
   double reference_in_mask_m2 = 0.0;  // of reference_free_m2, cells the free mask calls free
   double coverage_mask = 0.0;         // reference_in_mask_m2 / reference_free_m2: what a polygon
                                       // drawn on this free mask could cover at most
-  // Of reference_in_mask_m2, the cells the polygon covers or whose centre the polygon's centre
-  // sees through free-mask cells (a straight line): what a polygon star-shaped around that
-  // centre on this free mask could cover at most. NaN without a centre.
+  // Of reference_free_m2, the polygon's area on it plus the whole of each cell it does not
+  // cover whole that the free mask calls free and whose centre the polygon's centre sees
+  // through free-mask cells (a straight line): what a polygon star-shaped around that centre
+  // on this free mask could cover at most. NaN without a centre.
   double reference_star_m2 = 0.0;
   double coverage_star = 0.0;  // reference_star_m2 / reference_free_m2
   // The same over the truly free, observed cells seen at any scan so far (hidden ones too).
