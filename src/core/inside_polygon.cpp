@@ -135,7 +135,7 @@ void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sen
 void InsidePolygonBuilder::Block(int row, int col, const Vec2& sensor, const Vec2& u, const Vec2& v,
                                  double det, FanPull* bounds) {
   if (!bounds->Limit(row, col, sensor, u, v, det)) return;  // reaches no part of the triangle
-  if (blocked_.size() < blocked_.capacity()) {
+  if (blocked_.size() < kMaxBlocked) {  // reserved in the constructor: no allocation
     blocked_.push_back(CellIndex{row, col});
   } else {
     blocked_overflow_ = true;
@@ -144,8 +144,7 @@ void InsidePolygonBuilder::Block(int row, int col, const Vec2& sensor, const Vec
 
 void InsidePolygonBuilder::Settle(const Vec2& sensor, const Vec2& a, const Vec2& b,
                                   const FanPull& bounds, double* scale_a, double* scale_b) {
-  bounds.Choose(scale_a, scale_b);
-  split_ = false;
+  bounds.Choose(scale_a, scale_b);  // split_ is false: PullBetweenRays cleared it
   if (blocked_.empty() || blocked_overflow_) return;
   // Going round the corner c of a blocked cell that pokes in deepest (least alpha + beta; the
   // silhouette of the cell that casts a shadow): the triangles (a, c) and (c, b), each pulled
