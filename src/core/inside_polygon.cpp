@@ -101,7 +101,7 @@ void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sen
         if (!mask.Allowed(c, r)) Block(r, c, sensor, u, v, det, &bounds);
       }
     }
-    Settle(mask, sensor, a, b, bounds, scale_a, scale_b);
+    Settle(sensor, a, b, bounds, scale_a, scale_b);
     return;
   }
   // A long edge: the cells it meets, a row at a time, found 64 cells a word.
@@ -129,7 +129,7 @@ void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sen
       }
     }
   }
-  Settle(mask, sensor, a, b, bounds, scale_a, scale_b);
+  Settle(sensor, a, b, bounds, scale_a, scale_b);
 }
 
 void InsidePolygonBuilder::Block(int row, int col, const Vec2& sensor, const Vec2& u, const Vec2& v,
@@ -142,8 +142,7 @@ void InsidePolygonBuilder::Block(int row, int col, const Vec2& sensor, const Vec
   }
 }
 
-void InsidePolygonBuilder::Settle(const MaskView& mask, const Vec2& sensor, const Vec2& a,
-                                  const Vec2& b,
+void InsidePolygonBuilder::Settle(const Vec2& sensor, const Vec2& a, const Vec2& b,
                                   const FanPull& bounds, double* scale_a, double* scale_b) {
   bounds.Choose(scale_a, scale_b);  // split_ is false: PullBetweenRays cleared it
   if (blocked_.empty() || blocked_overflow_) return;
@@ -174,93 +173,13 @@ void InsidePolygonBuilder::Settle(const MaskView& mask, const Vec2& sensor, cons
   double a1, c1, c2, b2;
   first.Choose(&a1, &c1);
   second.Choose(&c2, &b2);
-  Vec2 in = sensor + c1 * w, out = sensor + c2 * w;
-  // Past the corner, the ray through it is the side of the shadow: the triangle on the far
-  // side of the corner may reach on along it, as far as the other ray's end.
-  double kept_a = da * a1 * c1, kept_b = db * c2 * b2;
-  const double ta = ShadowSide(sensor, u, w), tb = ShadowSide(sensor, v, w);
-  if (ta > 1.0) {
-    const FanPull reach = TriangleBounds(mask, sensor, u, ta * w, ta * da);
-    double sa, sp;
-    reach.Choose(&sa, &sp);
-    if (ta * da * sa * sp > kept_a) {
-      kept_a = ta * da * sa * sp;
-      a1 = sa;
-      in = sensor + (sp * ta) * w;
-    }
-  }
-  if (tb > 1.0) {
-    const FanPull reach = TriangleBounds(mask, sensor, tb * w, v, tb * db);
-    double sp, sb;
-    reach.Choose(&sp, &sb);
-    if (tb * db * sp * sb > kept_b) {
-      kept_b = tb * db * sp * sb;
-      b2 = sb;
-      out = sensor + (sp * tb) * w;
-    }
-  }
-  if (kept_a + kept_b <= det * *scale_a * *scale_b) return;
+  if (da * a1 * c1 + db * c2 * b2 <= det * *scale_a * *scale_b) return;
   split_ = true;
   split_at_ = at;
-  split_in_ = in;
-  split_out_ = out;
+  split_in_ = c1;
+  split_out_ = c2;
   *scale_a = a1;
   *scale_b = b2;
-}
-
-double InsidePolygonBuilder::ShadowSide(const Vec2& sensor, const Vec2& end, const Vec2& w) const {
-  double t = end.dot(w) / w.squaredNorm();
-  const auto keep_in = [&t](double from, double step, double lo, double hi) {
-    if (step > 0) t = std::min(t, (hi - from) / step);
-    if (step < 0) t = std::min(t, (lo - from) / step);
-  };
-  keep_in(sensor.x(), w.x(), 0.5, width_ - 0.5);
-  keep_in(sensor.y(), w.y(), 0.5, height_ - 0.5);
-  return t;
-}
-
-FanPull InsidePolygonBuilder::TriangleBounds(const MaskView& mask, const Vec2& sensor,
-                                             const Vec2& u, const Vec2& v, double det) const {
-  FanPull bounds;
-  if (det <= kAreaTolerance) return bounds;
-  const Vec2 p[3] = {sensor, sensor + u, sensor + v};
-  const double y_lo = std::min({p[0].y(), p[1].y(), p[2].y()});
-  const double y_hi = std::max({p[0].y(), p[1].y(), p[2].y()});
-  const int r0 = std::max(0, Floor(y_lo - kReach));
-  const int r1 = std::min(height_ - 1, Floor(y_hi + kReach));
-  for (int r = r0; r <= r1; ++r) {
-    // The triangle's part in rows [r, r + 1]: its x range, from the edges clipped to the strip.
-    const double lo = r - kReach, hi = r + 1 + kReach;
-    double x0 = INFINITY, x1 = -INFINITY;
-    for (int i = 0; i < 3; ++i) {
-      const Vec2& e = p[i];
-      const Vec2& f = p[i + 1 < 3 ? i + 1 : 0];
-      if (std::max(e.y(), f.y()) < lo || std::min(e.y(), f.y()) > hi) continue;
-      double ta = 0.0, tb = 1.0;
-      if (e.y() != f.y()) {
-        ta = std::clamp((lo - e.y()) / (f.y() - e.y()), 0.0, 1.0);
-        tb = std::clamp((hi - e.y()) / (f.y() - e.y()), 0.0, 1.0);
-      }
-      const double xa = e.x() + ta * (f.x() - e.x()), xb = e.x() + tb * (f.x() - e.x());
-      x0 = std::min({x0, xa, xb});
-      x1 = std::max({x1, xa, xb});
-    }
-    if (x0 > x1) continue;
-    const int from = std::max(0, Floor(x0 - kReach));
-    const int to = std::min(width_ - 1, Floor(x1 + kReach));
-    if (from > to) continue;
-    const std::uint64_t* line = mask.bits + std::size_t(r) * mask.words;
-    for (int k = from >> 6; k <= to >> 6; ++k) {
-      std::uint64_t blocked = ~line[k];
-      if (k == from >> 6) blocked &= ~std::uint64_t{0} << (from & 63);
-      if (k == to >> 6) blocked &= ~std::uint64_t{0} >> (63 - (to & 63));
-      while (blocked != 0) {
-        bounds.Limit(r, k * 64 + __builtin_ctzll(blocked), sensor, u, v, det);
-        blocked &= blocked - 1;
-      }
-    }
-  }
-  return bounds;
 }
 
 void InsidePolygonBuilder::PullInsideRing(const Vec2& sensor, int i, int j, double* scale_a,
@@ -408,42 +327,6 @@ void InsidePolygonBuilder::BetweenRays(const MaskView& mask, const Vec2& sensor,
     corner_at_[std::size_t(k)] = split_at_;
     split_in_at_[std::size_t(k)] = split_in_;
     split_out_at_[std::size_t(k)] = split_out_;
-    return;
-  }
-  PastCornerStops(mask, sensor, k, next);
-}
-
-void InsidePolygonBuilder::PastCornerStops(const MaskView& mask, const Vec2& sensor, int k,
-                                           int next) {
-  const std::size_t i = std::size_t(k);
-  const Vec2 u = end_[i] - sensor, v = end_[std::size_t(next)] - sensor;
-  const double det = Cross(u, v);
-  if (det <= kAreaTolerance) return;
-  double kept = det * need_a_[i] * need_b_[i];
-  for (int side = 0; side < 2; ++side) {
-    const RayStop& stop = end_stop_[side == 0 ? i : std::size_t(next)];
-    if (stop.kind != kRayCorner) continue;
-    const Vec2& w = side == 0 ? u : v;  // the ray that stopped at a corner
-    const int col = stop.cell % width_, row = stop.cell / width_;
-    bool away = true;  // the cell it touches lies wholly on the far side from the other ray
-    for (int corner = 0; corner < 4; ++corner) {
-      const Vec2 q(col + (corner == 1 || corner == 2), row + (corner >= 2));
-      const double c = Cross(w, q - sensor);
-      away = away && (side == 0 ? c <= 0.0 : c >= 0.0);
-    }
-    if (!away) continue;
-    const double t = ShadowSide(sensor, side == 0 ? v : u, w);
-    if (t <= 1.0) continue;
-    const FanPull reach = side == 0 ? TriangleBounds(mask, sensor, t * w, v, t * det)
-                                    : TriangleBounds(mask, sensor, u, t * w, t * det);
-    double s0, s1;
-    reach.Choose(&s0, &s1);
-    if (t * det * s0 * s1 <= kept) continue;
-    kept = t * det * s0 * s1;
-    corner_[i] = 2;
-    need_a_[i] = side == 0 ? 1.0 : s0;
-    need_b_[i] = side == 0 ? s1 : 1.0;
-    split_in_at_[i] = split_out_at_[i] = sensor + ((side == 0 ? s0 : s1) * t) * w;
   }
 }
 
@@ -460,10 +343,10 @@ void InsidePolygonBuilder::AssembleRing(const Vec2& sensor) {
     if (out != in) ring_.push_back(sensor + out * d);
     if (corner_[std::size_t(k)] == 1) ring_.push_back(corner_at_[std::size_t(k)]);
     if (corner_[std::size_t(k)] == 2) {  // round a blocked cell's corner, pulled on each side
-      const Vec2& c_in = split_in_at_[std::size_t(k)];
-      const Vec2& c_out = split_out_at_[std::size_t(k)];
-      ring_.push_back(c_in);
-      if (c_out != c_in) ring_.push_back(c_out);
+      const Vec2 c = corner_at_[std::size_t(k)] - sensor;
+      const double c_in = split_in_at_[std::size_t(k)], c_out = split_out_at_[std::size_t(k)];
+      ring_.push_back(sensor + c_in * c);
+      if (c_out != c_in) ring_.push_back(sensor + c_out * c);
     }
   }
   Compact();

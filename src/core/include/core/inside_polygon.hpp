@@ -67,16 +67,8 @@ class InsidePolygonBuilder {
   void Block(int row, int col, const Vec2& sensor, const Vec2& u, const Vec2& v, double det,
              FanPull* bounds);
   // The pair's scales from `bounds`, or a corner of a blocked cell to go round (split_).
-  void Settle(const MaskView& mask, const Vec2& sensor, const Vec2& a, const Vec2& b,
-              const FanPull& bounds, double* scale_a, double* scale_b);
-  // Going round a corner at sensor + w from a ray's end at sensor + end: how far along w (in
-  // units of w) the triangle on that side may reach, at most to the foot of the end on w's
-  // line, within the box of the border cells' centres.
-  double ShadowSide(const Vec2& sensor, const Vec2& end, const Vec2& w) const;
-  // The bounds of the triangle (sensor, sensor + u, sensor + v), twice its area det, from every
-  // cell outside the mask it overlaps.
-  FanPull TriangleBounds(const MaskView& mask, const Vec2& sensor, const Vec2& u, const Vec2& v,
-                         double det) const;
+  void Settle(const Vec2& sensor, const Vec2& a, const Vec2& b, const FanPull& bounds,
+              double* scale_a, double* scale_b);
   // The same for a simplified edge from ring vertex i to ring vertex j: the triangle must stay
   // inside the ring's fan triangles i .. j.
   void PullInsideRing(const Vec2& sensor, int i, int j, double* scale_a, double* scale_b) const;
@@ -85,10 +77,6 @@ class InsidePolygonBuilder {
   bool RayEnds(const SensorCell& s, const std::vector<RayStop>& stops);
   // Between ray k and the next: a corner to go round, or how far to pull their ends.
   void BetweenRays(const MaskView& mask, const Vec2& sensor, int k);
-  // A ray of pair k that stopped at the corner of a cell beside it (kRayCorner) leaves that
-  // cell's shadow on one side of its line: the pair's triangle may reach on along the line,
-  // past the corner.
-  void PastCornerStops(const MaskView& mask, const Vec2& sensor, int k, int next);
   // The ring from the ends, pulled, with the corners between them; compacted.
   void AssembleRing(const Vec2& sensor);
   // Drops the ring vertices that lie on a straight run between their neighbours.
@@ -105,12 +93,12 @@ class InsidePolygonBuilder {
   std::vector<std::uint8_t> corner_;     // per pair of rays: a corner to go round (1), or a
                                          // blocked cell's corner with scales of its own (2)
   std::vector<Vec2> corner_at_;          // and where
-  std::vector<Vec2> split_in_at_, split_out_at_;  // (2): the ring's points there, in and out
+  std::vector<double> split_in_at_, split_out_at_;  // (2): the corner's scales
   std::vector<CellIndex> blocked_;  // the blocked cells between the pair being pulled
   bool blocked_overflow_ = false;
   bool split_ = false;  // the last Settle() went round split_at_
   Vec2 split_at_;
-  Vec2 split_in_, split_out_;
+  double split_in_ = 1.0, split_out_ = 1.0;
   std::vector<Vec2> ring_;
   std::vector<int> kept_;
   std::vector<double> scale_;
