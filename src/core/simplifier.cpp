@@ -3,7 +3,8 @@
 // at a time, until every dropped vertex is within epsilon (the classic stop) or N vertices are
 // kept (the paper's added stop). With an inward weight above 1 (the conservative polygon) a
 // vertex left of its segment deviates that many times its distance. Segments live in a fixed
-// array: no allocation per call.
+// pool, linked in ring order, the next to split on top of a heap: no allocation per call, and
+// each split costs the length of the segment it measures plus a logarithm of the count.
 #include "core/simplifier.hpp"
 
 #include <algorithm>
@@ -35,7 +36,8 @@ bool PointInPolygon(const std::vector<Vec2>& polygon, const Vec2& p) {
 
 PolygonSimplifier::PolygonSimplifier(int max_vertices, double epsilon)
     : max_vertices_(max_vertices), epsilon_(epsilon) {
-  segments_.reserve(std::max(max_vertices, 3) + 1);
+  segments_.resize(std::size_t(std::max(max_vertices, 3) + 1));
+  heap_.resize(segments_.size());
 }
 
 PolygonSimplifier::Segment PolygonSimplifier::Measure(const std::vector<Vec2>& ring, int from,
@@ -72,12 +74,82 @@ PolygonSimplifier::Segment PolygonSimplifier::Measure(const std::vector<Vec2>& r
   return s;
 }
 
-void PolygonSimplifier::Split(const std::vector<Vec2>& ring, int s, int vertex) {
+int PolygonSimplifier::Split(const std::vector<Vec2>& ring, int s, int vertex) {
   const int n = int(ring.size());
-  const Segment old = segments_[s];
-  const int first = (vertex - old.from + n) % n;
-  segments_[s] = Measure(ring, old.from, first);
-  segments_.insert(segments_.begin() + s + 1, Measure(ring, vertex, old.length - first));
+  Segment& old = segments_[std::size_t(s)];
+  const int first = (vertex - old.from + n) % n, rest = old.length - first;
+  const int next = old.next, slot = old.slot, t = used_++;
+  old = Measure(ring, old.from, first);
+  old.next = t;
+  old.slot = slot;
+  segments_[std::size_t(t)] = Measure(ring, vertex, rest);
+  segments_[std::size_t(t)].next = next;
+  HeapPlace(s);
+  HeapPlace(t);
+  return t;
+}
+
+bool PolygonSimplifier::Before(int a, int b) const {
+  const Segment& x = segments_[std::size_t(a)];
+  const Segment& y = segments_[std::size_t(b)];
+  return x.priority > y.priority || (x.priority == y.priority && x.from < y.from);
+}
+
+void PolygonSimplifier::HeapSet(int slot, int s) {
+  heap_[std::size_t(slot)] = s;
+  segments_[std::size_t(s)].slot = slot;
+}
+
+void PolygonSimplifier::SiftUp(int slot) {
+  const int s = heap_[std::size_t(slot)];
+  while (slot > 0) {
+    const int parent = (slot - 1) / 2;
+    if (Before(heap_[std::size_t(parent)], s)) break;
+    HeapSet(slot, heap_[std::size_t(parent)]);
+    slot = parent;
+  }
+  HeapSet(slot, s);
+}
+
+void PolygonSimplifier::SiftDown(int slot) {
+  const int s = heap_[std::size_t(slot)];
+  for (;;) {
+    int child = 2 * slot + 1;
+    if (child >= heap_size_) break;
+    if (child + 1 < heap_size_ &&
+        Before(heap_[std::size_t(child + 1)], heap_[std::size_t(child)])) {
+      ++child;
+    }
+    if (!Before(heap_[std::size_t(child)], s)) break;
+    HeapSet(slot, heap_[std::size_t(child)]);
+    slot = child;
+  }
+  HeapSet(slot, s);
+}
+
+void PolygonSimplifier::HeapRemove(int s) {
+  const int slot = segments_[std::size_t(s)].slot;
+  segments_[std::size_t(s)].slot = -1;
+  const int last = heap_[std::size_t(--heap_size_)];
+  if (last == s) return;
+  HeapSet(slot, last);
+  SiftUp(slot);
+  SiftDown(segments_[std::size_t(last)].slot);
+}
+
+void PolygonSimplifier::HeapPlace(int s) {
+  const Segment& g = segments_[std::size_t(s)];
+  if (g.worst < 0) {
+    if (g.slot >= 0) HeapRemove(s);
+    return;
+  }
+  if (g.slot < 0) {
+    HeapSet(heap_size_++, s);
+    SiftUp(heap_size_ - 1);
+    return;
+  }
+  SiftUp(g.slot);
+  SiftDown(segments_[std::size_t(s)].slot);
 }
 
 namespace {
@@ -95,8 +167,8 @@ double LeftOf(const Vec2& a, const Vec2& b, const Vec2& p) {
 int PolygonSimplifier::ContainmentSplit(const std::vector<Vec2>& ring, const Vec2& inside,
                                         int first) const {
   const int n = int(ring.size());
-  for (int s = first; s < int(segments_.size()); ++s) {
-    const Segment& g = segments_[s];
+  for (int s = first; s >= 0; s = segments_[std::size_t(s)].next) {
+    const Segment& g = segments_[std::size_t(s)];
     if (g.worst < 0) continue;
     const Vec2& a = ring[g.from];
     const int to = g.from + g.length;
@@ -114,7 +186,7 @@ int PolygonSimplifier::ContainmentSplit(const std::vector<Vec2>& ring, const Vec
 
 int PolygonSimplifier::Bisector(const std::vector<Vec2>& ring, int s, const Vec2& inside) const {
   const int n = int(ring.size());
-  const Segment& g = segments_[s];
+  const Segment& g = segments_[std::size_t(s)];
   const Vec2& a = ring[g.from];
   const Vec2& b = ring[(g.from + g.length) % n];
   int best = -1;
@@ -142,9 +214,13 @@ double PolygonSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& in
   for (int i = 2; i < n; ++i) {
     if ((ring[i] - ring[0]).squaredNorm() > (ring[far] - ring[0]).squaredNorm()) far = i;
   }
-  segments_.clear();
-  segments_.push_back(Measure(ring, 0, far));
-  segments_.push_back(Measure(ring, far, n - far));
+  used_ = 2;
+  heap_size_ = 0;
+  for (int s = 0; s < 2; ++s) {
+    segments_[std::size_t(s)] = s == 0 ? Measure(ring, 0, far) : Measure(ring, far, n - far);
+    segments_[std::size_t(s)].next = s == 0 ? 1 : -1;
+    HeapPlace(s);
+  }
   int count = 2;
 
   // The vehicle first: C_Edge is ordered by ray angle around the vehicle, so the polygon of any
@@ -166,23 +242,18 @@ double PolygonSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& in
   contain();
 
   // Douglas-Peucker, farthest deviation first, with the paper's stop at N vertices.
-  while (count < max_vertices_) {
-    int s = -1;
-    for (int k = 0; k < int(segments_.size()); ++k) {
-      if (segments_[k].worst >= 0 && (s < 0 || segments_[k].priority > segments_[s].priority)) {
-        s = k;
-      }
-    }
-    if (s < 0) break;
-    if (segments_[s].priority <= epsilon_ && count >= 3) break;
-    Split(ring, s, segments_[s].worst);
+  while (count < max_vertices_ && heap_size_ > 0) {
+    const int s = heap_[0];
+    if (segments_[std::size_t(s)].priority <= epsilon_ && count >= 3) break;
+    Split(ring, s, segments_[std::size_t(s)].worst);
     ++count;
   }
   // Rings that are not star-shaped around the vehicle can lose it again; repair if N allows.
   contain();
 
   double error = 0.0;
-  for (const Segment& g : segments_) {
+  for (int s = 0; s >= 0; s = segments_[std::size_t(s)].next) {
+    const Segment& g = segments_[std::size_t(s)];
     kept->push_back(g.from);
     if (g.worst >= 0) error = std::max(error, g.deviation);
   }
