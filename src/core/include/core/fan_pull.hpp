@@ -87,29 +87,32 @@ struct FanPull {
   bool Limit(int row, int col, const Vec2& sensor, const Vec2& u, const Vec2& v, double det) {
     // Wholly beyond the edge u -> v (up to rounding: the cells a ray ended on): nothing to
     // limit. The edge's normal towards the sensor, against each corner.
-    const Vec2 normal(u.y() - v.y(), v.x() - u.x());  // (v - u) turned left
-    const double reach = fan::kEdgeTolerance * det;   // det = normal . (0 - u) relative
-    const Vec2 corners[4] = {Vec2(col, row) - sensor, Vec2(col + 1, row) - sensor,
-                             Vec2(col + 1, row + 1) - sensor, Vec2(col, row + 1) - sensor};
+    const double nx = u.y() - v.y(), ny = v.x() - u.x();  // (v - u) turned left
+    const double reach = fan::kEdgeTolerance * det;       // det = normal . (0 - u) relative
+    // The corners relative to the sensor, as plain numbers: built as small vectors they went
+    // through the stack, and each load waited for two stores.
+    const double x0 = col - sensor.x(), x1 = (col + 1) - sensor.x();
+    const double y0 = row - sensor.y(), y1 = (row + 1) - sensor.y();
+    const double wx[4] = {x0, x1, x1, x0}, wy[4] = {y0, y0, y1, y1};
     bool near = false;
-    for (const Vec2& w : corners) near = near || normal.dot(w - u) > reach;
+    for (int k = 0; k < 4; ++k) near = near || nx * (wx[k] - u.x()) + ny * (wy[k] - u.y()) > reach;
     if (!near) return false;
     // Wholly on the far side of a ray (beta <= 0 or alpha <= 0 at every corner): no area in
     // the wedge, as the clipping below would find.
     bool before_a = true, beyond_b = true;
-    for (const Vec2& w : corners) {
-      before_a = before_a && fan::Cross(u, w) <= 0.0;
-      beyond_b = beyond_b && fan::Cross(w, v) <= 0.0;
+    for (int k = 0; k < 4; ++k) {
+      before_a = before_a && u.x() * wy[k] - u.y() * wx[k] <= 0.0;
+      beyond_b = beyond_b && wx[k] * v.y() - wy[k] * v.x() <= 0.0;
     }
     if (before_a || beyond_b) return false;
     // The corners in (alpha, beta), divided by det: a corner on a ray's end (a ray that
     // ended at a cell corner) gets exactly alpha = 1 or beta = 1.
     fan::Clip cell;
     double least = INFINITY;
-    for (const Vec2& w : corners) {
+    for (int k = 0; k < 4; ++k) {
       double* ab = cell.v[cell.n++];
-      ab[0] = fan::Cross(w, v) / det;
-      ab[1] = fan::Cross(u, w) / det;
+      ab[0] = (wx[k] * v.y() - wy[k] * v.x()) / det;
+      ab[1] = (u.x() * wy[k] - u.y() * wx[k]) / det;
       least = std::min(least, ab[0] + ab[1]);
     }
     if (least >= 1.0 - fan::kEdgeTolerance) return false;
