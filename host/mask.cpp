@@ -60,8 +60,11 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
       }
     }
     if (k > 0) {
-      std::uint64_t kill[128] = {};
-      std::uint64_t near[128], column[128] = {}, any[128] = {};
+      // Room for the widest map; only the row's nw words are used, so only they are cleared.
+      std::uint64_t kill[128], near[128], column[128], any[128];
+      std::fill_n(kill, nw, std::uint64_t{0});
+      std::fill_n(column, nw, std::uint64_t{0});
+      std::fill_n(any, nw, std::uint64_t{0});
       // The cells with a source within k at all, so that the words without are skipped.
       for (int dy = -k; dy <= k; ++dy) {
         const int rr = r + dy;
