@@ -13,7 +13,7 @@ namespace freespace {
 
 HostBackend::HostBackend(const KernelParams& params, int threads)
     : Backend(params),
-      arena_(threads > 0 ? threads : tbb::task_arena::automatic),
+      arena_(threads),
       map_(cells(), 0),
       map_scratch_(cells(), 0),
       update_(cells(), kUpdateNone),
@@ -35,7 +35,6 @@ HostBackend::HostBackend(const KernelParams& params, int threads)
                        std::to_string(params.height) + " cells; each side must be 1 .. 8192");
   }
   echo_cells_.reserve(16384);
-  arena_.initialize();
 }
 
 void HostBackend::Clear() {

@@ -154,7 +154,7 @@ enum class OpenClWait { kAuto, kBlock, kSpin };
 
 struct BackendConfig {
   BackendKind kind = BackendKind::kTbb;
-  int threads = 0;              // TBB worker threads; 0 = all cores
+  int threads = 0;              // TBB worker threads; 0 = all cores, in the caller's arena
   std::string opencl_platform;  // substring of the platform name; empty = first with a device
   std::string opencl_device;    // substring of the device name; empty = first
   OpenClWait opencl_wait = OpenClWait::kAuto;

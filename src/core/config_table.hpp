@@ -221,7 +221,10 @@ void VisitRig(C& r, Visitor& v) {
 template <class C, class Visitor>
 void VisitBackend(C& b, Visitor& v) {
   v.Enum("kind", b.kind, kBackendNames, {"", {}, "compute backend"});
-  v("threads", b.threads, {"", Closed(0, 1024), "TBB worker threads; 0 = all cores"});
+  v("threads", b.threads,
+    {"", Closed(0, 1024),
+     "TBB worker threads; 0 = all cores, in the calling thread's TBB arena; N > 0: the map stages "
+     "and the clutter filter in an arena of N"});
   v("opencl_platform", b.opencl_platform,
     {"", {}, "substring of the OpenCL platform's name; empty = the first with a device"});
   v("opencl_device", b.opencl_device,

@@ -32,7 +32,7 @@ ClutterFilter::ClutterFilter(const ClutterConfig& config, int bins, double bin_w
     : config_(config),
       bins_(bins),
       bin_width_(bin_width_rad),
-      arena_(threads > 0 ? threads : tbb::task_arena::automatic),
+      arena_(threads),
       bin_start_(bins + 1, 0),
       cursor_(bins, 0) {}
 

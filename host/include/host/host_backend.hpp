@@ -3,12 +3,11 @@
 // tested against, bit for bit. Each stage lives in the file with the kernel's stem.
 #pragma once
 
-#include <tbb/task_arena.h>
-
 #include <cstdint>
 #include <vector>
 
 #include "core/backend.hpp"
+#include "core/thread_arena.hpp"
 
 // Row loops of the host stages are compiled for AVX-512, AVX2 and the baseline, picked at
 // load time for the CPU at hand. Integer arithmetic only, so every variant gives the same bits.
@@ -61,7 +60,7 @@ class HostBackend final : public Backend {
   int words() const { return (params_.width + 63) / 64; }   // bitset words per row
   void ClearOutline(const RasterJob& job, int r0, int r1);  // host/rasterize.cpp
 
-  tbb::task_arena arena_;
+  ThreadArena arena_;
   std::vector<LogOdds> map_;
   std::vector<LogOdds> map_scratch_;  // the shift writes here, then swaps
   // Every row of map_ (of map_scratch_) with a non-zero cell lies in known_ (scratch_known_).

@@ -3,13 +3,12 @@
 // only echoes whose horizontal angle can put them within eps are compared, never all pairs.
 #pragma once
 
-#include <tbb/task_arena.h>
-
 #include <atomic>
 #include <cstdint>
 #include <memory>
 #include <vector>
 
+#include "core/thread_arena.hpp"
 #include "freespace/config.hpp"
 
 namespace freespace {
@@ -54,7 +53,7 @@ class ClutterFilter {
   ClutterConfig config_;
   int bins_;
   double bin_width_;
-  tbb::task_arena arena_;
+  ThreadArena arena_;
   Crew* crew_ = nullptr;
   // Points in bin order, structure of arrays.
   std::vector<std::int32_t> bin_start_;
