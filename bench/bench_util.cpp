@@ -1,6 +1,7 @@
 // The backends the benchmarks compare, and the benchmarks' main.
 #include "bench_util.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 
 #ifdef FREESPACE_WITH_OPENCL
@@ -42,6 +43,23 @@ BackendConfig BenchBackend(std::int64_t arg) {
     config.opencl_devices = arg == 3 ? 2 : 1;
   }
   return config;
+}
+
+namespace {
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(mid), v.end());
+  return v[mid];
+}
+}  // namespace
+
+void PairedTimes::Publish(benchmark::State& state, const char* a, const char* b,
+                          const char* ratio) const {
+  const double ma = Median(a_), mb = Median(b_);
+  state.counters[a] = ma;
+  state.counters[b] = mb;
+  state.counters[ratio] = ma > 0 ? mb / ma : 0.0;
 }
 
 }  // namespace freespace::bench

@@ -6,6 +6,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
+#include <vector>
 
 #include "core/backend.hpp"
 #include "engine/backend_factory.hpp"
@@ -32,5 +33,21 @@ using test::StageInput;
 //   3  as 2, split over two basic devices (opencl_devices: 2), where PoCL lists two.
 // FREESPACE_OPENCL_PLATFORM / FREESPACE_OPENCL_DEVICE replace these filters, as in the engine.
 BackendConfig BenchBackend(std::int64_t arg);
+
+// Per-iteration times of two setups timed in turn within one benchmark loop (BM_*Pair): the
+// machine's speed, which on a shared VM moves by up to 50 % within minutes, then weighs on both
+// alike. Publish() sets the counters `<a>` and `<b>` (medians, us) and `ratio` (b / a).
+class PairedTimes {
+ public:
+  void Add(double a_us, double b_us) {
+    a_.push_back(a_us);
+    b_.push_back(b_us);
+  }
+  void Publish(benchmark::State& state, const char* a, const char* b,
+               const char* ratio = "ratio") const;
+
+ private:
+  std::vector<double> a_, b_;
+};
 
 }  // namespace freespace::bench

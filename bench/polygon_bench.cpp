@@ -4,7 +4,8 @@
 // start (the first scans of a pass, while the map fills, untimed). The reported time is the
 // stage's own (Result::times, UseManualTime): BM_DrivePolygon times the polygon stage alone (the
 // host's work after the border rays), BM_DrivePipeline the whole Estimator::Process(); counters:
-// the mean mask (stage 3b) and border-ray (stage 4) times.
+// the mean mask (stage 3b) and border-ray (stage 4) times. BM_DrivePair times both setups in
+// turn in one loop, for their ratios.
 #include <map>
 
 #include "bench_util.hpp"
@@ -34,19 +35,26 @@ const std::vector<Scan>& DriveScans(int scenario, SensorConfig* sensor) {
   return drive.first;
 }
 
-// Args: shape (0 paper, 1 the road setup's conservative polygon), scenario, map side.
-void RunDrive(benchmark::State& state, bool polygon_only) {
-  SensorConfig sensor;
-  const std::vector<Scan>& scans = DriveScans(int(state.range(1)), &sensor);
+// The road setup (configs/scala.yaml) or, with `paper`, its paper-shape polygon without margin,
+// face or mover layer, for `sensor` on a map of `cells` x `cells`.
+Config DriveConfig(bool paper, const SensorConfig& sensor, int cells) {
   Config config = LoadProjectConfig("scala.yaml");
   config.sensor = sensor;
-  config.map.width_cells = config.map.height_cells = int(state.range(2));
-  if (state.range(0) == 0) {
+  config.map.width_cells = config.map.height_cells = cells;
+  if (paper) {
     config.polygon.shape = PolygonShape::kPaper;
     config.polygon.margin_cells = 0;
     config.polygon.face_tolerance_m = 0.0;
     config.polygon.mover_memory_s = 0.0;
   }
+  return config;
+}
+
+// Args: shape (0 paper, 1 the road setup's conservative polygon), scenario, map side.
+void RunDrive(benchmark::State& state, bool polygon_only) {
+  SensorConfig sensor;
+  const std::vector<Scan>& scans = DriveScans(int(state.range(1)), &sensor);
+  const Config config = DriveConfig(state.range(0) == 0, sensor, int(state.range(2)));
   Estimator estimator(config);
   state.SetLabel(std::string(kScenarios[state.range(1)]) + " " + ToString(config.polygon.shape) +
                  " " + std::to_string(state.range(2)) + "x" + std::to_string(state.range(2)));
@@ -70,6 +78,40 @@ void RunDrive(benchmark::State& state, bool polygon_only) {
 void BM_DrivePolygon(benchmark::State& state) { RunDrive(state, true); }
 void BM_DrivePipeline(benchmark::State& state) { RunDrive(state, false); }
 
+// Both setups on the same scans in turn, one scan each an iteration (args: scenario, map side):
+// counters `paper` and `inside` (pipeline medians, us), `ratio`, and the polygon stage's
+// `polygon_paper`, `polygon_inside` and `polygon_ratio`, taken in the same minutes.
+void BM_DrivePair(benchmark::State& state) {
+  SensorConfig sensor;
+  const std::vector<Scan>& scans = DriveScans(int(state.range(0)), &sensor);
+  Estimator paper(DriveConfig(true, sensor, int(state.range(1))));
+  Estimator inside(DriveConfig(false, sensor, int(state.range(1))));
+  Estimator* estimators[2] = {&paper, &inside};
+  state.SetLabel(std::string(kScenarios[state.range(0)]) + " " + std::to_string(state.range(1)) +
+                 "x" + std::to_string(state.range(1)));
+  std::size_t next = 0;
+  PairedTimes pipeline, polygon;
+  for (auto _ : state) {
+    if (next % scans.size() == 0) {
+      for (Estimator* e : estimators) {
+        e->Reset();
+        for (int i = 0; i < kWarmUp; ++i) e->Process(scans[std::size_t(i)]);
+      }
+      next = kWarmUp;
+    }
+    const Scan& scan = scans[next++ % scans.size()];
+    const Result& a = paper.Process(scan);
+    const double a_total = a.times.total_us, a_polygon = a.times.polygon_us;
+    const Result& b = inside.Process(scan);
+    benchmark::DoNotOptimize(b.polygon.data());
+    pipeline.Add(a_total, b.times.total_us);
+    polygon.Add(a_polygon, b.times.polygon_us);
+    state.SetIterationTime((a_total + b.times.total_us) * 1e-6);
+  }
+  pipeline.Publish(state, "paper", "inside");
+  polygon.Publish(state, "polygon_paper", "polygon_inside", "polygon_ratio");
+}
+
 void Drives(benchmark::internal::Benchmark* b) {
   for (const int cells : {300, 1500}) {
     for (const int scenario : {0, 1, 2}) {
@@ -81,6 +123,11 @@ void Drives(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_DrivePolygon)->Apply(Drives);
 BENCHMARK(BM_DrivePipeline)->Apply(Drives);
+BENCHMARK(BM_DrivePair)
+    ->ArgsProduct({{0, 1, 2}, {300, 1500}})
+    ->ArgNames({"scenario", "cells"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace freespace::bench

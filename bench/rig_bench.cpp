@@ -2,7 +2,11 @@
 // simulated drive (seed 1) with the front rig (one scanner) and the surround rig (four), the road
 // setup (configs/scala.yaml), host backend. The time of each cycle is the estimator's own
 // (Result::times.total_us, UseManualTime); the cycles are simulated once, before timing.
+// BM_RigPair times both rigs in turn in one loop, for their ratio.
+#include <algorithm>
 #include <map>
+#include <memory>
+#include <vector>
 
 #include "bench_util.hpp"
 #include "sim/rig.hpp"
@@ -67,6 +71,42 @@ void BM_RigCycle(benchmark::State& state) {
   state.counters["update"] = benchmark::Counter(update, benchmark::Counter::kAvgIterations);
 }
 
+// The front and the surround rig's cycles of one scenario in turn, one of each an iteration:
+// counters `front` and `surround` (medians, us) and `ratio`, taken in the same minutes.
+void BM_RigPair(benchmark::State& state) {
+  const int scenario = int(state.range(0));
+  const Drive* drives[2] = {&DriveCycles(0, scenario), &DriveCycles(1, scenario)};
+  std::vector<std::unique_ptr<Estimator>> estimators;
+  for (const Drive* drive : drives) {
+    Config config = sim::WithRig(LoadProjectConfig("scala.yaml"), drive->rig);
+    config.backend = BenchBackend(0);
+    estimators.push_back(std::make_unique<Estimator>(config));
+  }
+  state.SetLabel(std::string(kScenarios[scenario]) + " 300x300 " + estimators[0]->backend_name());
+  const std::size_t n = std::min(drives[0]->cycles.size(), drives[1]->cycles.size());
+  std::size_t next = 0;
+  PairedTimes times;
+  for (auto _ : state) {
+    if (next % n == 0) {
+      for (int k = 0; k < 2; ++k) {
+        estimators[k]->Reset();
+        for (int i = 0; i < kWarmUp; ++i) estimators[k]->ProcessCycle(drives[k]->cycles[i]);
+      }
+      next = kWarmUp;
+    }
+    double us[2];
+    for (int k = 0; k < 2; ++k) {
+      const Result& r = estimators[k]->ProcessCycle(drives[k]->cycles[next % n]);
+      benchmark::DoNotOptimize(r.polygon.data());
+      us[k] = r.times.total_us;
+    }
+    ++next;
+    times.Add(us[0], us[1]);
+    state.SetIterationTime((us[0] + us[1]) * 1e-6);
+  }
+  times.Publish(state, "front", "surround");
+}
+
 void Rigs(benchmark::internal::Benchmark* b) {
   for (const int scenario : {0, 2}) {
     for (const int rig : {0, 1}) b->Args({rig, scenario, 300});
@@ -75,6 +115,12 @@ void Rigs(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_RigCycle)->Apply(Rigs);
+BENCHMARK(BM_RigPair)
+    ->Arg(0)
+    ->Arg(2)
+    ->ArgName("scenario")
+    ->UseManualTime()
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace freespace::bench
