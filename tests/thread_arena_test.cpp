@@ -4,7 +4,6 @@
 #include "core/thread_arena.hpp"
 
 #include <gtest/gtest.h>
-
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
