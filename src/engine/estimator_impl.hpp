@@ -2,8 +2,6 @@
 // DESIGN.md's pipeline, each behind the interface chosen once from the config.
 #pragma once
 
-#include <tbb/task_arena.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -16,6 +14,7 @@
 #include "core/movers.hpp"
 #include "core/preprocess.hpp"
 #include "core/sweep.hpp"
+#include "core/thread_arena.hpp"
 #include "engine/map_aligner.hpp"
 #include "freespace/estimator.hpp"
 #include "polygon_extractor.hpp"
@@ -86,15 +85,6 @@ class Estimator::Impl {
     ScanProjection projection;
   };
   void MakeRig();
-  // Runs `work` (a parallel loop over the rig's sensors) on at most backend.threads threads.
-  template <typename Work>
-  void InRigArena(const Work& work) {
-    if (rig_arena_) {
-      rig_arena_->execute(work);
-    } else {
-      work();
-    }
-  }
   bool CheckCycle(const Scan* scans, int count);
   bool CheckCycleSpread(const Scan* scans, int newest);
   bool PreprocessCycle(const Scan* scans);
@@ -111,18 +101,19 @@ class Estimator::Impl {
   std::unique_ptr<PolygonExtractor> polygon_;
   Result result_;
   std::uint64_t scans_ = 0;
-  Pose2D last_sensor_;                          // sensor pose of the last accepted scan
-  SweepTracker sweep_;                          // the same, for sensor.sweep_s
-  std::vector<RigSensor> rig_;                  // a rig's sensors (empty for a single sensor)
-  std::unique_ptr<tbb::task_arena> rig_arena_;  // their parallel work when backend.threads > 0
-  std::vector<int> cycle_order_;                // the cycle's scans by sensor index
-  std::vector<std::int32_t> cycle_echoes_;      // echo cells of every scan of the cycle
-  std::vector<std::int32_t> cycle_face_near_;   // the face layer of every scan of the cycle:
-  std::vector<std::int32_t> cycle_face_seen_;   // near, seen
-  MoverTracker movers_;                         // polygon.mover_memory_s
-  std::vector<std::int32_t> hazard_;            // its cells and the face layer's near ones
-  std::vector<Vec2> cycle_scanners_;            // map cells of the cycle's scanners with an update
-  std::int32_t footprint_[8] = {};              // the footprint's corners, fixed point
+  Pose2D last_sensor_;          // sensor pose of the last accepted scan
+  SweepTracker sweep_;          // the same, for sensor.sweep_s
+  std::vector<RigSensor> rig_;  // a rig's sensors (empty for a single sensor)
+  // Their parallel loops: in the caller's arena, or in one of backend.threads (a rig only).
+  ThreadArena rig_arena_{0};
+  std::vector<int> cycle_order_;               // the cycle's scans by sensor index
+  std::vector<std::int32_t> cycle_echoes_;     // echo cells of every scan of the cycle
+  std::vector<std::int32_t> cycle_face_near_;  // the face layer of every scan of the cycle:
+  std::vector<std::int32_t> cycle_face_seen_;  // near, seen
+  MoverTracker movers_;                        // polygon.mover_memory_s
+  std::vector<std::int32_t> hazard_;           // its cells and the face layer's near ones
+  std::vector<Vec2> cycle_scanners_;           // map cells of the cycle's scanners with an update
+  std::int32_t footprint_[8] = {};             // the footprint's corners, fixed point
   mutable std::vector<LogOdds> map_mirror_;
   mutable std::vector<std::uint8_t> free_mirror_;
 };

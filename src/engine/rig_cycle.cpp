@@ -47,11 +47,7 @@ Vec2 MapCells(const Pose2D& p, const Result& r, double resolution, double* yaw) 
 }  // namespace
 
 void Estimator::Impl::MakeRig() {
-  // With backend.threads 0 the sensors share TBB's own arena: a separate one of the same width
-  // costs the cycle the workers' move into it, about 10 % on two cores.
-  if (config_.backend.threads > 0) {
-    rig_arena_ = std::make_unique<tbb::task_arena>(config_.backend.threads);
-  }
+  rig_arena_ = ThreadArena(config_.backend.threads);
   rig_.resize(config_.sensors.size());
   for (std::size_t i = 0; i < rig_.size(); ++i) {
     rig_[i].config = config_;
@@ -150,7 +146,7 @@ bool Estimator::Impl::PreprocessCycle(const Scan* scans) {
   if (n == 1) {
     run(0);
   } else {
-    InRigArena([&] { tbb::parallel_for(0, n, run); });
+    rig_arena_.execute([&] { tbb::parallel_for(0, n, run); });
   }
   bool any = false;
   for (int k = 0; k < n; ++k) {
@@ -203,7 +199,7 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   if (n == 1) {
     project(0);
   } else {
-    InRigArena([&] { tbb::parallel_for(0, n, project); });
+    rig_arena_.execute([&] { tbb::parallel_for(0, n, project); });
   }
   r.times.rasterize_us += Micros(start, Clock::now());
 
