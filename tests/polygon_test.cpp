@@ -183,12 +183,13 @@ struct Inside {
   std::vector<Vec2> polygon;
   bool built = false;
 
-  Inside(const std::vector<std::uint8_t>& mask, int w, int h, const Vec2& at, int n, double eps)
+  Inside(const std::vector<std::uint8_t>& mask, int w, int h, const Vec2& at, int n, double eps,
+         int parts = 1)
       : width(w),
         height(h),
         bits(std::size_t((w + 63) / 64) * h, 0),
         sensor(MakeSensorCell(at, w, h)),
-        builder(w, h, n, eps) {
+        builder(w, h, n, eps, parts) {
     const int words = (w + 63) / 64;
     for (int r = 0; r < h; ++r) {
       for (int c = 0; c < w; ++c) {
@@ -242,6 +243,30 @@ TEST(InsidePolygon, CoversMaskCellsOnlyOnRandomMasks) {
     ++checked;
   }
   EXPECT_GT(checked, 200);
+}
+
+TEST(InsidePolygon, PartsInParallelGiveTheSamePolygon) {
+  // The rays worked in several parts (some empty: more parts than rays) build the ring and the
+  // polygon of one part, to the bit.
+  std::mt19937 rng(11);
+  int built = 0;
+  for (int trial = 0; trial < 100; ++trial) {
+    const int width = 12 + int(rng() % 40), height = 12 + int(rng() % 40);
+    const std::vector<std::uint8_t> mask = RandomMask(width, height, &rng);
+    std::uniform_real_distribution<double> x(1.0, width - 1.0), y(1.0, height - 1.0);
+    const Vec2 at(x(rng), y(rng));
+    const Inside one(mask, width, height, at, 32, 0.5, 1);
+    for (const int parts : {2, 3, 8, 400}) {
+      const Inside many(mask, width, height, at, 32, 0.5, parts);
+      const std::string where =
+          "trial " + std::to_string(trial) + ", " + std::to_string(parts) + " parts";
+      ASSERT_EQ(many.built, one.built) << where;
+      EXPECT_EQ(many.builder.ring(), one.builder.ring()) << where;
+      EXPECT_EQ(many.polygon, one.polygon) << where;
+    }
+    built += one.built;
+  }
+  EXPECT_GT(built, 60);
 }
 
 TEST(InsidePolygon, OpenMapGivesTheBorderCentresRectangle) {

@@ -20,6 +20,8 @@
 // kinds of pull. No cell is looked at again.
 #include "core/inside_polygon.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -46,13 +48,15 @@ constexpr double kReach = 1e-7;
 // 6.3 %, 4.8 % and 4.1 % of the area in sight out of the polygon though in the mask and
 // clear of shadows; 1000 and more changed nothing.
 constexpr double kInwardWeight = 100.0;
-// At most this many blocked cells between two rays are gone round; beyond, the pair is pulled.
-constexpr std::size_t kMaxBlocked = 16;
 
 }  // namespace
 
-InsidePolygonBuilder::InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon)
-    : width_(width), height_(height), simplifier_(max_vertices, epsilon) {
+InsidePolygonBuilder::InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon,
+                                           int parts)
+    : width_(width),
+      height_(height),
+      simplifier_(max_vertices, epsilon),
+      parts_(std::max(1, parts)) {
   simplifier_.set_inward_weight(kInwardWeight);
   // One ray per distinct border cell: the corner cells, which two labels share, once.
   const int labels = BorderLabelCount(height, width);
@@ -64,6 +68,7 @@ InsidePolygonBuilder::InsidePolygonBuilder(int width, int height, int max_vertic
     last = cell;
     labels_.push_back(l);
   }
+  part_beyond_.resize(std::size_t(parts_));
   ring_.reserve(4 * labels_.size());  // per ray: its end in and out, a corner in and out
   end_.reserve(labels_.size());
   end_stop_.resize(labels_.size());
@@ -73,22 +78,19 @@ InsidePolygonBuilder::InsidePolygonBuilder(int width, int height, int max_vertic
   corner_at_.resize(labels_.size());
   split_in_at_.resize(labels_.size());
   split_out_at_.resize(labels_.size());
-  blocked_.reserve(kMaxBlocked);
   kept_.reserve(std::size_t(std::max(max_vertices, 3)) + 1);
   scale_.reserve(std::size_t(std::max(max_vertices, 3)) + 1);
 }
 
 void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sensor, const Vec2& a,
-                                           const Vec2& b, const NearSide& near, double* scale_a,
-                                           double* scale_b) {
+                                           const Vec2& b, const NearSide& near, PairPull* pull,
+                                           double* scale_a, double* scale_b) const {
   *scale_a = *scale_b = 1.0;
-  split_ = false;
+  *pull = PairPull{};
   const Vec2 u = a - sensor, v = b - sensor;
   const double det = Cross(u, v);     // twice the triangle's area
   if (det <= kAreaTolerance) return;  // no area: the edge runs along its rays
   FanPull bounds;
-  blocked_.clear();
-  blocked_overflow_ = false;
   const double y0 = std::min(a.y(), b.y()) - kReach, y1 = std::max(a.y(), b.y()) + kReach;
   const int r0 = std::max(near.row_min, int(Floor(y0)));
   const int r1 = std::min(near.row_max, int(Floor(y1)));
@@ -98,10 +100,10 @@ void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sen
     // A short edge (the common one: two rays on one wall): every cell of its box.
     for (int r = r0; r <= r1; ++r) {
       for (int c = c0; c <= c1; ++c) {
-        if (!mask.Allowed(c, r)) Block(r, c, sensor, u, v, det, &bounds);
+        if (!mask.Allowed(c, r)) Block(r, c, sensor, u, v, det, &bounds, pull);
       }
     }
-    Settle(sensor, a, b, bounds, scale_a, scale_b);
+    Settle(sensor, a, b, bounds, pull, scale_a, scale_b);
     return;
   }
   // A long edge: the cells it meets, a row at a time, found 64 cells a word.
@@ -124,28 +126,31 @@ void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sen
       if (w == from >> 6) blocked &= ~std::uint64_t{0} << (from & 63);
       if (w == to >> 6) blocked &= ~std::uint64_t{0} >> (63 - (to & 63));
       while (blocked != 0) {
-        Block(r, w * 64 + __builtin_ctzll(blocked), sensor, u, v, det, &bounds);
+        Block(r, w * 64 + __builtin_ctzll(blocked), sensor, u, v, det, &bounds, pull);
         blocked &= blocked - 1;
       }
     }
   }
-  Settle(sensor, a, b, bounds, scale_a, scale_b);
+  Settle(sensor, a, b, bounds, pull, scale_a, scale_b);
 }
 
 void InsidePolygonBuilder::Block(int row, int col, const Vec2& sensor, const Vec2& u, const Vec2& v,
-                                 double det, FanPull* bounds) {
+                                 double det, FanPull* bounds, PairPull* pull) {
   if (!bounds->Limit(row, col, sensor, u, v, det)) return;  // reaches no part of the triangle
-  if (blocked_.size() < kMaxBlocked) {  // reserved in the constructor: no allocation
-    blocked_.push_back(CellIndex{row, col});
+  if (pull->count < kMaxBlocked) {
+    pull->blocked[pull->count++] = CellIndex{row, col};
   } else {
-    blocked_overflow_ = true;
+    pull->overflow = true;
   }
 }
 
 void InsidePolygonBuilder::Settle(const Vec2& sensor, const Vec2& a, const Vec2& b,
-                                  const FanPull& bounds, double* scale_a, double* scale_b) {
-  bounds.Choose(scale_a, scale_b);  // split_ is false: PullBetweenRays cleared it
-  if (blocked_.empty() || blocked_overflow_) return;
+                                  const FanPull& bounds, PairPull* pull, double* scale_a,
+                                  double* scale_b) {
+  bounds.Choose(scale_a, scale_b);  // pull->split is false: PullBetweenRays cleared it
+  if (pull->count == 0 || pull->overflow) return;
+  const CellIndex* begin = pull->blocked;
+  const CellIndex* end = pull->blocked + pull->count;
   // Going round the corner c of a blocked cell that pokes in deepest (least alpha + beta; the
   // silhouette of the cell that casts a shadow): the triangles (a, c) and (c, b), each pulled
   // on its own, often keep far more. Trying every corner kept no more over the urban drive.
@@ -153,7 +158,8 @@ void InsidePolygonBuilder::Settle(const Vec2& sensor, const Vec2& a, const Vec2&
   const double det = Cross(u, v);
   double deepest = det;
   Vec2 at = Vec2::Zero();
-  for (const CellIndex& cell : blocked_) {
+  for (const CellIndex* cell_at = begin; cell_at != end; ++cell_at) {
+    const CellIndex& cell = *cell_at;
     for (int corner = 0; corner < 4; ++corner) {
       const Vec2 c(cell.col + (corner == 1 || corner == 2), cell.row + (corner >= 2));
       const double da = Cross(u, c - sensor), db = Cross(c - sensor, v);
@@ -166,18 +172,18 @@ void InsidePolygonBuilder::Settle(const Vec2& sensor, const Vec2& a, const Vec2&
   const Vec2 w = at - sensor;
   const double da = Cross(u, w), db = Cross(w, v);
   FanPull first, second;
-  for (const CellIndex& cell : blocked_) {
-    first.Limit(cell.row, cell.col, sensor, u, w, da);
-    second.Limit(cell.row, cell.col, sensor, w, v, db);
+  for (const CellIndex* cell = begin; cell != end; ++cell) {
+    first.Limit(cell->row, cell->col, sensor, u, w, da);
+    second.Limit(cell->row, cell->col, sensor, w, v, db);
   }
   double a1, c1, c2, b2;
   first.Choose(&a1, &c1);
   second.Choose(&c2, &b2);
   if (da * a1 * c1 + db * c2 * b2 <= det * *scale_a * *scale_b) return;
-  split_ = true;
-  split_at_ = at;
-  split_in_ = c1;
-  split_out_ = c2;
+  pull->split = true;
+  pull->at = at;
+  pull->in = c1;
+  pull->out = c2;
   *scale_a = a1;
   *scale_b = b2;
 }
@@ -262,11 +268,10 @@ bool InsidePolygonBuilder::Distinct(std::vector<Vec2>* polygon) {
   return true;
 }
 
-bool InsidePolygonBuilder::RayEnds(const SensorCell& s, const std::vector<RayStop>& stops) {
-  const int m = int(labels_.size());
-  end_.resize(labels_.size());
+bool InsidePolygonBuilder::RayEnds(const SensorCell& s, const std::vector<RayStop>& stops,
+                                   int begin, int end) {
   bool beyond = false;  // a ray ended outside the sensor's own cell
-  for (int k = 0; k < m; ++k) {
+  for (int k = begin; k < end; ++k) {
     const int label = labels_[std::size_t(k)];
     const CellIndex target = BorderCell(label, height_, width_);
     const RayStop& stop = stops[std::size_t(label)];
@@ -320,13 +325,14 @@ void InsidePolygonBuilder::BetweenRays(const MaskView& mask, const Vec2& sensor,
     }
     if (clear) return;
   }
+  PairPull pull;
   PullBetweenRays(mask, sensor, end_[std::size_t(k)], end_[std::size_t(next)], Near(sensor, a, b),
-                  &need_a_[std::size_t(k)], &need_b_[std::size_t(k)]);
-  if (split_) {
+                  &pull, &need_a_[std::size_t(k)], &need_b_[std::size_t(k)]);
+  if (pull.split) {
     corner_[std::size_t(k)] = 2;
-    corner_at_[std::size_t(k)] = split_at_;
-    split_in_at_[std::size_t(k)] = split_in_;
-    split_out_at_[std::size_t(k)] = split_out_;
+    corner_at_[std::size_t(k)] = pull.at;
+    split_in_at_[std::size_t(k)] = pull.in;
+    split_out_at_[std::size_t(k)] = pull.out;
   }
 }
 
@@ -357,11 +363,27 @@ bool InsidePolygonBuilder::Build(const MaskView& mask, const SensorCell& s,
                                  double* error) {
   polygon->clear();
   *error = 0.0;
-  if (!RayEnds(s, stops)) return false;
+  const int pairs = int(labels_.size());  // one ray per label kept, each with the next
+  end_.resize(labels_.size());
   const Vec2 sensor(double(s.x) / kFixedOne, double(s.y) / kFixedOne);
   // Neighbouring rays can pass a cell outside the mask between them: the ring goes round it or
   // is pulled in first, so that the simplification works on a ring whose fan lies in the mask.
-  for (int k = 0; k < int(end_.size()); ++k) BetweenRays(mask, sensor, k);
+  // Each part takes its rays' ends and the pairs within them; the pairs across two parts follow.
+  const auto bound = [&](int part) { return int(std::int64_t(pairs) * part / parts_); };
+  const auto run = [&](int part) {
+    part_beyond_[std::size_t(part)] = RayEnds(s, stops, bound(part), bound(part + 1));
+    for (int k = bound(part); k + 1 < bound(part + 1); ++k) BetweenRays(mask, sensor, k);
+  };
+  if (parts_ == 1) {
+    run(0);
+  } else {
+    tbb::parallel_for(0, parts_, run);
+  }
+  if (std::none_of(part_beyond_.begin(), part_beyond_.end(), [](char b) { return b != 0; }))
+    return false;
+  for (int part = 0; part < parts_; ++part) {
+    if (bound(part + 1) > bound(part)) BetweenRays(mask, sensor, bound(part + 1) - 1);
+  }
   AssembleRing(sensor);
   *error = simplifier_.Simplify(ring_, sensor, &kept_);
   const int n = int(kept_.size());

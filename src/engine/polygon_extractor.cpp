@@ -65,8 +65,10 @@ class ConservativePolygon final : public PolygonExtractor {
       : width_(config.map.width_cells),
         height_(config.map.height_cells),
         words_((width_ + 63) / 64),
+        // The pairs of rays in eight parts in parallel when the backend may take every core.
         builder_(width_, height_, config.polygon.max_vertices,
-                 config.polygon.epsilon_m / config.map.resolution_m) {
+                 config.polygon.epsilon_m / config.map.resolution_m,
+                 config.backend.threads == 0 ? 8 : 1) {
     stops_.reserve(std::size_t(BorderLabelCount(height_, width_)));
     if (backend.HostMaskBits() == nullptr) mask_copy_.resize(std::size_t(words_) * height_);
   }

@@ -34,8 +34,10 @@ struct MaskView {
 class InsidePolygonBuilder {
  public:
   // width, height: the map in cells; max_vertices: N (>= 3); epsilon: tolerance in cells;
-  // All memory is allocated here; Build() runs on the calling thread.
-  InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon);
+  // parts: the rays' ends and the pairs between them are worked in this many runs in parallel (TBB,
+  // in the caller's arena); 1: all on the calling thread. The result does not depend on it. All
+  // memory is allocated here.
+  InsidePolygonBuilder(int width, int height, int max_vertices, double epsilon, int parts = 1);
 
   // `stops`: the exact rays' stops on `mask`, one per border label (BorderCell order) from the
   // sensor `s`. Writes the polygon (counter-clockwise, map cells) into `polygon` and returns
@@ -56,26 +58,40 @@ class InsidePolygonBuilder {
   struct NearSide {
     int row_min, row_max, col_min, col_max;
   };
+  // At most this many blocked cells between two rays are gone round; beyond, the pair is pulled.
+  static constexpr int kMaxBlocked = 16;
+  // One pair's pull in the making: the blocked cells that reach into its triangle, and the
+  // corner Settle() chose to go round.
+  struct PairPull {
+    CellIndex blocked[kMaxBlocked];
+    int count = 0;
+    bool overflow = false;
+    bool split = false;  // Settle() went round `at`
+    Vec2 at = Vec2::Zero();
+    double in = 1.0, out = 1.0;  // the corner's scales
+  };
   NearSide Near(const Vec2& sensor, const RayStop& a, const RayStop& b) const;
   // How far a and b may stay of the triangle (sensor, a, b) so that it overlaps no cell outside
   // the mask, where a and b are neighbouring rays' ends: only cells the edge a -> b meets, on
   // the `near` side, can reach inside.
   void PullBetweenRays(const MaskView& mask, const Vec2& sensor, const Vec2& a, const Vec2& b,
-                       const NearSide& near, double* scale_a, double* scale_b);
-  // Limits `bounds` by a cell outside the mask and keeps it in blocked_ when it reaches into
+                       const NearSide& near, PairPull* pull, double* scale_a,
+                       double* scale_b) const;
+  // Limits `bounds` by a cell outside the mask and keeps it in `pull` when it reaches into
   // the triangle (sensor, sensor + u, sensor + v).
-  void Block(int row, int col, const Vec2& sensor, const Vec2& u, const Vec2& v, double det,
-             FanPull* bounds);
-  // The pair's scales from `bounds`, or a corner of a blocked cell to go round (split_).
-  void Settle(const Vec2& sensor, const Vec2& a, const Vec2& b, const FanPull& bounds,
-              double* scale_a, double* scale_b);
+  static void Block(int row, int col, const Vec2& sensor, const Vec2& u, const Vec2& v, double det,
+                    FanPull* bounds, PairPull* pull);
+  // The pair's scales from `bounds`, or a corner of a blocked cell to go round (pull->split).
+  static void Settle(const Vec2& sensor, const Vec2& a, const Vec2& b, const FanPull& bounds,
+                     PairPull* pull, double* scale_a, double* scale_b);
   // The same for a simplified edge from ring vertex i to ring vertex j: the triangle must stay
   // inside the ring's fan triangles i .. j.
   void PullInsideRing(const Vec2& sensor, int i, int j, double* scale_a, double* scale_b) const;
-  // The rays' end points (end_), one per distinct border cell; false when none left the
-  // sensor's own cell.
-  bool RayEnds(const SensorCell& s, const std::vector<RayStop>& stops);
-  // Between ray k and the next: a corner to go round, or how far to pull their ends.
+  // The end points (end_) of rays [begin, end), one ray per distinct border cell; false when
+  // none of them left the sensor's own cell.
+  bool RayEnds(const SensorCell& s, const std::vector<RayStop>& stops, int begin, int end);
+  // Between ray k and the next: a corner to go round, or how far to pull their ends. Writes only
+  // pair k's entries: pairs may be worked in parallel.
   void BetweenRays(const MaskView& mask, const Vec2& sensor, int k);
   // The ring from the ends, pulled, with the corners between them; compacted.
   void AssembleRing(const Vec2& sensor);
@@ -94,11 +110,8 @@ class InsidePolygonBuilder {
                                          // blocked cell's corner with scales of its own (2)
   std::vector<Vec2> corner_at_;          // and where
   std::vector<double> split_in_at_, split_out_at_;  // (2): the corner's scales
-  std::vector<CellIndex> blocked_;  // the blocked cells between the pair being pulled
-  bool blocked_overflow_ = false;
-  bool split_ = false;  // the last Settle() went round split_at_
-  Vec2 split_at_;
-  double split_in_ = 1.0, split_out_ = 1.0;
+  int parts_;
+  std::vector<char> part_beyond_;  // per part: RayEnds() found a ray beyond the sensor's cell
   std::vector<Vec2> ring_;
   std::vector<int> kept_;
   std::vector<double> scale_;
