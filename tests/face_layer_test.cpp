@@ -44,9 +44,43 @@ FaceRule Rule() {
 
 // FaceCells() of `o` in `parts` parts.
 void Faces(const Outline& o, std::vector<std::int32_t>* near, std::vector<std::int32_t>* seen,
-           int parts = 1) {
+           int parts = 1, const FaceRule& rule = Rule()) {
   std::vector<FaceLists> lists(parts);
-  FaceCells(o.vertices, o.beams, Rule(), kWidth, kHeight, &lists, near, seen);
+  FaceCells(o.vertices, o.beams, rule, kWidth, kHeight, &lists, near, seen);
+}
+
+// Whether the segment a-b meets the square [x0, x1] x [y0, y1] (closed), by clipping.
+bool Meets(double ax, double ay, double bx, double by, double x0, double y0, double x1, double y1) {
+  double t0 = 0, t1 = 1;
+  const double d[2] = {bx - ax, by - ay}, lo[2] = {x0 - ax, y0 - ay}, hi[2] = {x1 - ax, y1 - ay};
+  for (int k = 0; k < 2; ++k) {
+    if (d[k] == 0) {
+      if (lo[k] > 0 || hi[k] < 0) return false;
+      continue;
+    }
+    const double u = lo[k] / d[k], v = hi[k] / d[k];
+    t0 = std::max(t0, std::min(u, v));
+    t1 = std::min(t1, std::max(u, v));
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+// The distance between the segment a-b and the square of cell (c, r): 0 where they meet, else
+// the least of an end to the square and a corner to the segment.
+double CellDistance(double ax, double ay, double bx, double by, int c, int r) {
+  if (Meets(ax, ay, bx, by, c, r, c + 1, r + 1)) return 0.0;
+  const auto to_square = [&](double x, double y) {
+    return std::hypot(std::max({c - x, 0.0, x - c - 1}), std::max({r - y, 0.0, y - r - 1}));
+  };
+  const auto to_segment = [&](double x, double y) {
+    const double dx = bx - ax, dy = by - ay, l2 = dx * dx + dy * dy;
+    const double t = l2 > 0 ? std::clamp(((x - ax) * dx + (y - ay) * dy) / l2, 0.0, 1.0) : 0.0;
+    return std::hypot(ax + t * dx - x, ay + t * dy - y);
+  };
+  double d = std::min(to_square(ax, ay), to_square(bx, by));
+  for (int k = 0; k < 4; ++k) d = std::min(d, to_segment(c + k % 2, r + k / 2));
+  return d;
 }
 
 std::set<std::pair<int, int>> Cells(const std::vector<std::int32_t>& list) {
@@ -150,6 +184,59 @@ TEST(FaceLayer, CellsOutsideTheMapAreLeftOut) {
   EXPECT_FALSE(seen.empty());
   Cells(near);  // every index inside the map
   Cells(seen);
+}
+
+TEST(FaceLayer, EveryCellWithinTheToleranceAndNoOther) {
+  // Random faces (two echoes within the join distance) and points (two echoes beyond it), at
+  // tolerances from none to over a cell, against every cell's distance worked out on its own:
+  // near holds the cells within the tolerance, seen those the face or point touches (up to
+  // 1e-7 cells either way: what lies exactly on the edge may go either way).
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> at(-2.0, kWidth + 2.0), step(-3.0, 3.0);
+  int checked_near = 0, checked_seen = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    FaceRule rule = Rule();
+    rule.tolerance_m = std::vector<double>{0.0, 0.05, 0.1, 0.33}[trial % 4];
+    const double t = rule.tolerance_m / rule.resolution_m;
+    Outline o;
+    const double ax = at(rng), ay = at(rng);
+    double bx = ax + step(rng), by = ay + step(rng);
+    if (trial % 5 == 0) by = ay;  // along a row, or a column, or from a cell corner
+    if (trial % 5 == 1) bx = ax;
+    const double snap = trial % 7 == 0 ? 1.0 : 0.0;
+    const auto on = [&](double v) { return snap > 0 ? std::round(v) : v; };
+    o.Add(on(ax), on(ay), 3.0);
+    o.Add(on(bx), on(by), 3.0);
+    const double px = double(o.vertices[2]) / kFixedOne, py = double(o.vertices[3]) / kFixedOne;
+    const double qx = double(o.vertices[4]) / kFixedOne, qy = double(o.vertices[5]) / kFixedOne;
+    const bool face = std::hypot(qx - px, qy - py) * rule.resolution_m <= rule.join_m;
+    std::vector<std::int32_t> near, seen;
+    Faces(o, &near, &seen, 1, rule);
+    const std::set<std::pair<int, int>> got_near = Cells(near), got_seen = Cells(seen);
+    for (int r = 0; r < kHeight; ++r) {
+      for (int c = 0; c < kWidth; ++c) {
+        const double d =
+            face ? CellDistance(px, py, qx, qy, c, r)
+                 : std::min(CellDistance(px, py, px, py, c, r), CellDistance(qx, qy, qx, qy, c, r));
+        const std::string where = "trial " + std::to_string(trial) + " cell (" + std::to_string(c) +
+                                  ", " + std::to_string(r) + ")";
+        const bool in_near = got_near.count({c, r}), in_seen = got_seen.count({c, r});
+        if (d < t - 1e-7) EXPECT_TRUE(in_near) << where << " at " << d;
+        if (d > t + 1e-7) EXPECT_FALSE(in_near) << where << " at " << d;
+        if (d > 1e-7) EXPECT_FALSE(in_seen) << where << " at " << d;
+        // Touched with some length or depth: through the square shrunk by 1e-7.
+        const bool through =
+            face ? Meets(px, py, qx, qy, c + 1e-7, r + 1e-7, c + 1 - 1e-7, r + 1 - 1e-7)
+                 : (Meets(px, py, px, py, c + 1e-7, r + 1e-7, c + 1 - 1e-7, r + 1 - 1e-7) ||
+                    Meets(qx, qy, qx, qy, c + 1e-7, r + 1e-7, c + 1 - 1e-7, r + 1 - 1e-7));
+        if (through) EXPECT_TRUE(in_seen) << where;
+        checked_near += in_near;
+        checked_seen += in_seen;
+      }
+    }
+  }
+  EXPECT_GT(checked_near, 2000);
+  EXPECT_GT(checked_seen, 500);
 }
 
 TEST(FaceLayer, InPartsTheSameCells) {
