@@ -158,7 +158,7 @@ void Preprocessor::Deskew(const SweepMotion& motion) {
 }
 
 void Preprocessor::Project(const Vec2& sensor_cells, double yaw, int width, int height,
-                           RasterJob* job) {
+                           RasterJob* job, bool faces) {
   const double c = std::cos(yaw), s = std::sin(yaw), k = 1.0 / resolution_m_;
   vertices_.clear();
   const std::int32_t ox = ToFixed(sensor_cells.x()), oy = ToFixed(sensor_cells.y());
@@ -198,6 +198,12 @@ void Preprocessor::Project(const Vec2& sensor_cells, double yaw, int width, int 
   job->clear_outline = clear_outline_;
   job->row_begin = std::clamp(r0, 0, height);
   job->row_end = std::clamp(r1, 0, height);
+  face_near_.clear();
+  face_seen_.clear();
+  if (faces) ProjectFaces(width, height);
+}
+
+void Preprocessor::ProjectFaces(int width, int height) {
   face_near_.clear();
   face_seen_.clear();
   if (face_rule_.tolerance_m > 0)

@@ -225,16 +225,19 @@ bool Estimator::Impl::Align(const Scan& scan) {
 }
 
 // The sensor model and the fusion (kernel stages 1, 2), and this scan's echoes for the veto.
+// With backend.threads 0 the mover layer's detection and the face layer run beside the map's
+// update, which does not need them.
 void Estimator::Impl::UpdateMap(bool has_update, const Scan& scan) {
   Result& r = result_;
-  if (movers_.enabled()) {
-    const Clock::time_point start = Clock::now();
-    StartMovers(scan.timestamp_s);
-    if (has_update) movers_.Detect(0, r.sensor_pose, scan.timestamp_s, preprocess_->beams());
-    r.times.rasterize_us += Micros(start, Clock::now());
-  }
+  if (movers_.enabled()) StartMovers(scan.timestamp_s);
   if (has_update) {
-    sensor_model_->Update(preprocess_.get(), r.vehicle_cells, r.yaw, backend_.get(), &r.times);
+    const auto detect = [&] {
+      if (movers_.enabled())
+        movers_.Detect(0, r.sensor_pose, scan.timestamp_s, preprocess_->beams());
+    };
+    const bool beside = movers_.enabled() || FaceRule::Of(config_).tolerance_m > 0;
+    sensor_model_->Update(preprocess_.get(), r.vehicle_cells, r.yaw, backend_.get(), &r.times,
+                          SideWork(&detect), beside && config_.backend.threads == 0);
     const std::vector<std::int32_t>& echoes = preprocess_->echo_cells();
     backend_->SetEchoes(echoes.data(), int(echoes.size()));
     const std::vector<std::int32_t>& near =

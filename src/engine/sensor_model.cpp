@@ -3,6 +3,9 @@
 // per kept echo, no virtual points), each followed by its fusion.
 #include "sensor_model.hpp"
 
+#include <tbb/parallel_invoke.h>
+
+#include <algorithm>
 #include <chrono>
 
 namespace freespace {
@@ -17,9 +20,9 @@ double Micros(Clock::time_point a, Clock::time_point b) {
 class EnhancedModel final : public SensorModel {
  public:
   void Project(Preprocessor* preprocess, const Vec2& sensor, double yaw, int width, int height,
-               ScanProjection* out) const override {
+               ScanProjection* out, bool faces) const override {
     out->raster = RasterJob{};
-    preprocess->Project(sensor, yaw, width, height, &out->raster);
+    preprocess->Project(sensor, yaw, width, height, &out->raster, faces);
   }
 
   void Apply(const ScanProjection& scan, Backend* backend, StageTimes* times) const override {
@@ -35,7 +38,7 @@ class EnhancedModel final : public SensorModel {
 class ConventionalModel final : public SensorModel {
  public:
   void Project(Preprocessor* preprocess, const Vec2& sensor, double yaw, int width, int height,
-               ScanProjection* out) const override {
+               ScanProjection* out, bool /*faces: none drawn*/) const override {
     out->rays = RayJob{};
     preprocess->ProjectRays(sensor, yaw, width, height, &out->rays);
   }
@@ -53,12 +56,30 @@ class ConventionalModel final : public SensorModel {
 }  // namespace
 
 void SensorModel::Update(Preprocessor* preprocess, const Vec2& sensor, double yaw, Backend* backend,
-                         StageTimes* times) const {
+                         StageTimes* times, SideWork beside, bool parallel) const {
+  const int width = backend->params().width, height = backend->params().height;
   const Clock::time_point start = Clock::now();
   ScanProjection scan;
-  Project(preprocess, sensor, yaw, backend->params().width, backend->params().height, &scan);
-  times->rasterize_us += Micros(start, Clock::now());
-  Apply(scan, backend, times);
+  Project(preprocess, sensor, yaw, width, height, &scan, !parallel);
+  if (!parallel) beside();
+  const Clock::time_point projected = Clock::now();
+  times->rasterize_us += Micros(start, projected);
+  if (!parallel) {
+    Apply(scan, backend, times);
+    return;
+  }
+  double apply_us = 0.0;
+  tbb::parallel_invoke(
+      [&] {
+        beside();
+        preprocess->ProjectFaces(width, height);
+      },
+      [&] {
+        const Clock::time_point begin = Clock::now();
+        Apply(scan, backend, times);
+        apply_us = Micros(begin, Clock::now());
+      });
+  times->rasterize_us += std::max(0.0, Micros(projected, Clock::now()) - apply_us);
 }
 
 std::unique_ptr<SensorModel> MakeSensorModel(const Config& config) {

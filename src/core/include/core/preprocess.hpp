@@ -44,8 +44,12 @@ class Preprocessor {
   void UseCrew(Crew* crew) { clutter_.UseCrew(crew); }
 
   // Projects the beams and kept echoes into the map: sensor at `sensor_cells` (map cells,
-  // fractional) with heading `yaw`. Fills `job` with pointers into this object's buffers.
-  void Project(const Vec2& sensor_cells, double yaw, int width, int height, RasterJob* job);
+  // fractional) with heading `yaw`. Fills `job` with pointers into this object's buffers. With
+  // `faces` false the face layer is left to ProjectFaces().
+  void Project(const Vec2& sensor_cells, double yaw, int width, int height, RasterJob* job,
+               bool faces = true);
+  // The face layer of the outline the last Project() drew, on a map of width x height cells.
+  void ProjectFaces(int width, int height);
 
   // The conventional model's rays: from the sensor's cell to each kept echo's cell.
   void ProjectRays(const Vec2& sensor_cells, double yaw, int width, int height, RayJob* job);
