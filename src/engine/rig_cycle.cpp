@@ -4,6 +4,7 @@
 // footprint is fused as free last. The circle, the classification, the border rays and the
 // polygon then run once, around the rig's reference point at the newest scan's pose.
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <cmath>
@@ -159,11 +160,12 @@ bool Estimator::Impl::PreprocessCycle(const Scan* scans) {
 
 // Each scan's update from its own sensor's pose in the aligned map: every sensor's motion
 // during its sweep (one after the other: the trackers follow the map's resets), then each scan
-// deskewed, projected and, with the mover layer, compared with its sensor's earlier outline, the
-// sensors in parallel (host work on each sensor's own buffers, its time in rasterize_us), then
-// the sensor model's kernels and the fusion in the rig's order; then the footprint. The veto and
-// face layers hold every scan's echoes and faces, the mover layer the cycle's hazard, and the
-// polygon mask's margin follows the lines of sight of the scanners that updated the map.
+// deskewed and projected, the sensors in parallel (host work on each sensor's own buffers, its
+// time in rasterize_us); then the sensor model's kernels and the fusion in the rig's order, and
+// the footprint, while each scan's face layer and, with the mover layer, its comparison with its
+// sensor's earlier outline run beside them (with backend.threads 0; else after them). The veto
+// and face layers hold every scan's echoes and faces, the mover layer the cycle's hazard, and
+// the polygon mask's margin follows the lines of sight of the scanners that updated the map.
 void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   Result& r = result_;
   const int n = int(cycle_order_.size());
@@ -183,35 +185,65 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   double newest = -std::numeric_limits<double>::infinity();
   for (int k = 0; k < n; ++k) newest = std::max(newest, scans[cycle_order_[k]].timestamp_s);
   if (movers_.enabled()) StartMovers(newest);
-  const auto project = [&](int k) {
+  const auto each_sensor = [&](auto&& work) {
+    if (n == 1) {
+      work(0);
+    } else {
+      rig_arena_.execute([&] { tbb::parallel_for(0, n, work); });
+    }
+  };
+  each_sensor([&](int k) {
     const Scan& scan = scans[cycle_order_[k]];
     RigSensor& unit = rig_[scan.sensor];
     if (unit.swept) unit.preprocess->Deskew(unit.motion);
     if (!unit.has_update) return;
     double yaw = 0.0;
     unit.cells = MapCells(r.cycle_sensor_poses[k], r, res, &yaw);  // CheckCycleSpread's pose
-    sensor_model_->Project(unit.preprocess.get(), unit.cells, yaw, width, height, &unit.projection);
-    if (movers_.enabled()) {
-      movers_.Detect(scan.sensor, r.cycle_sensor_poses[k], scan.timestamp_s,
-                     unit.preprocess->beams());
-    }
+    sensor_model_->Project(unit.preprocess.get(), unit.cells, yaw, width, height, &unit.projection,
+                           /*faces=*/false);
+  });
+  const Clock::time_point projected = Clock::now();
+  r.times.rasterize_us += Micros(start, projected);
+
+  const auto beside = [&] {
+    each_sensor([&](int k) {
+      const Scan& scan = scans[cycle_order_[k]];
+      RigSensor& unit = rig_[scan.sensor];
+      if (!unit.has_update) return;
+      unit.preprocess->ProjectFaces(width, height);
+      if (movers_.enabled()) {
+        movers_.Detect(scan.sensor, r.cycle_sensor_poses[k], scan.timestamp_s,
+                       unit.preprocess->beams());
+      }
+    });
   };
-  if (n == 1) {
-    project(0);
+  double apply_us = 0.0;
+  const auto apply = [&] {
+    const Clock::time_point begin = Clock::now();
+    cycle_scanners_.clear();
+    for (int k = 0; k < n; ++k) {
+      RigSensor& unit = rig_[scans[cycle_order_[k]].sensor];
+      if (!unit.has_update) continue;
+      cycle_scanners_.push_back(unit.cells);
+      sensor_model_->Apply(unit.projection, backend_.get(), &r.times);
+    }
+    FuseFootprint();
+    apply_us = Micros(begin, Clock::now());
+  };
+  if (config_.backend.threads == 0) {
+    tbb::parallel_invoke(beside, apply);
   } else {
-    rig_arena_.execute([&] { tbb::parallel_for(0, n, project); });
+    beside();
+    apply();
   }
-  r.times.rasterize_us += Micros(start, Clock::now());
+  r.times.rasterize_us += std::max(0.0, Micros(projected, Clock::now()) - apply_us);
 
   cycle_echoes_.clear();
   cycle_face_near_.clear();
   cycle_face_seen_.clear();
-  cycle_scanners_.clear();
   for (int k = 0; k < n; ++k) {
     RigSensor& unit = rig_[scans[cycle_order_[k]].sensor];
     if (!unit.has_update) continue;
-    cycle_scanners_.push_back(unit.cells);
-    sensor_model_->Apply(unit.projection, backend_.get(), &r.times);
     const std::vector<std::int32_t>& echoes = unit.preprocess->echo_cells();
     cycle_echoes_.insert(cycle_echoes_.end(), echoes.begin(), echoes.end());
     const std::vector<std::int32_t>& near = unit.preprocess->face_near_cells();
@@ -219,7 +251,6 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
     const std::vector<std::int32_t>& seen = unit.preprocess->face_seen_cells();
     cycle_face_seen_.insert(cycle_face_seen_.end(), seen.begin(), seen.end());
   }
-  FuseFootprint();
   backend_->SetEchoes(cycle_echoes_.data(), int(cycle_echoes_.size()));
   const std::vector<std::int32_t>& near = MoverCells(cycle_face_near_, newest);
   backend_->SetFaces(near.data(), int(near.size()), cycle_face_seen_.data(),
