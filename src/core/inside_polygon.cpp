@@ -168,7 +168,9 @@ void InsidePolygonBuilder::Settle(const Vec2& sensor, const Vec2& a, const Vec2&
       at = c;
     }
   }
-  if (deepest >= det) return;
+  // The two triangles round the corner keep at most their whole area, da + db = deepest: no
+  // more than the pull keeps already, and there is nothing to go round for.
+  if (deepest >= det || deepest <= det * *scale_a * *scale_b) return;
   const Vec2 w = at - sensor;
   const double da = Cross(u, w), db = Cross(w, v);
   FanPull first, second;
