@@ -49,37 +49,32 @@ void Faces(const Outline& o, std::vector<std::int32_t>* near, std::vector<std::i
   FaceCells(o.vertices, o.beams, rule, kWidth, kHeight, &lists, near, seen);
 }
 
-// Whether the segment a-b meets the square [x0, x1] x [y0, y1] (closed), by clipping.
-bool Meets(double ax, double ay, double bx, double by, double x0, double y0, double x1, double y1) {
-  double t0 = 0, t1 = 1;
-  const double d[2] = {bx - ax, by - ay}, lo[2] = {x0 - ax, y0 - ay}, hi[2] = {x1 - ax, y1 - ay};
-  for (int k = 0; k < 2; ++k) {
-    if (d[k] == 0) {
-      if (lo[k] > 0 || hi[k] < 0) return false;
-      continue;
-    }
-    const double u = lo[k] / d[k], v = hi[k] / d[k];
-    t0 = std::max(t0, std::min(u, v));
-    t1 = std::min(t1, std::max(u, v));
-    if (t0 > t1) return false;
-  }
-  return true;
+struct Pt {
+  double x, y;
+};
+
+double Orient(Pt a, Pt b, Pt c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); }
+
+double PointToSegment(Pt p, Pt a, Pt b) {
+  const double dx = b.x - a.x, dy = b.y - a.y, l2 = dx * dx + dy * dy;
+  const double t = l2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / l2, 0.0, 1.0) : 0.0;
+  return std::hypot(a.x + t * dx - p.x, a.y + t * dy - p.y);
 }
 
-// The distance between the segment a-b and the square of cell (c, r): 0 where they meet, else
-// the least of an end to the square and a corner to the segment.
-double CellDistance(double ax, double ay, double bx, double by, int c, int r) {
-  if (Meets(ax, ay, bx, by, c, r, c + 1, r + 1)) return 0.0;
-  const auto to_square = [&](double x, double y) {
-    return std::hypot(std::max({c - x, 0.0, x - c - 1}), std::max({r - y, 0.0, y - r - 1}));
-  };
-  const auto to_segment = [&](double x, double y) {
-    const double dx = bx - ax, dy = by - ay, l2 = dx * dx + dy * dy;
-    const double t = l2 > 0 ? std::clamp(((x - ax) * dx + (y - ay) * dy) / l2, 0.0, 1.0) : 0.0;
-    return std::hypot(ax + t * dx - x, ay + t * dy - y);
-  };
-  double d = std::min(to_square(ax, ay), to_square(bx, by));
-  for (int k = 0; k < 4; ++k) d = std::min(d, to_segment(c + k % 2, r + k / 2));
+// The distance between the segment a-b and the square [x0, x1] x [y0, y1]: 0 with an end in
+// it or a side crossed, else the least distance between the segment and a side (an end of one
+// to the other).
+double SquareDistance(Pt a, Pt b, double x0, double y0, double x1, double y1) {
+  const auto in = [&](Pt p) { return p.x >= x0 && p.x <= x1 && p.y >= y0 && p.y <= y1; };
+  if (in(a) || in(b)) return 0.0;
+  const Pt corner[4] = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+  double d = INFINITY;
+  for (int k = 0; k < 4; ++k) {
+    const Pt c = corner[k], e = corner[(k + 1) % 4];
+    if (Orient(a, b, c) * Orient(a, b, e) < 0 && Orient(c, e, a) * Orient(c, e, b) < 0) return 0;
+    d = std::min({d, PointToSegment(a, c, e), PointToSegment(b, c, e), PointToSegment(c, a, b),
+                  PointToSegment(e, a, b)});
+  }
   return d;
 }
 
@@ -215,21 +210,29 @@ TEST(FaceLayer, EveryCellWithinTheToleranceAndNoOther) {
     const std::set<std::pair<int, int>> got_near = Cells(near), got_seen = Cells(seen);
     for (int r = 0; r < kHeight; ++r) {
       for (int c = 0; c < kWidth; ++c) {
-        const double d =
-            face ? CellDistance(px, py, qx, qy, c, r)
-                 : std::min(CellDistance(px, py, px, py, c, r), CellDistance(qx, qy, qx, qy, c, r));
+        const Pt p{px, py}, q{qx, qy};
+        const auto distance = [&](double shrink) {
+          const double x0 = c + shrink, y0 = r + shrink, x1 = c + 1 - shrink, y1 = r + 1 - shrink;
+          return face ? SquareDistance(p, q, x0, y0, x1, y1)
+                      : std::min(SquareDistance(p, p, x0, y0, x1, y1),
+                                 SquareDistance(q, q, x0, y0, x1, y1));
+        };
+        const double d = distance(0.0);
         const std::string where = "trial " + std::to_string(trial) + " cell (" + std::to_string(c) +
                                   ", " + std::to_string(r) + ")";
         const bool in_near = got_near.count({c, r}), in_seen = got_seen.count({c, r});
-        if (d < t - 1e-7) EXPECT_TRUE(in_near) << where << " at " << d;
-        if (d > t + 1e-7) EXPECT_FALSE(in_near) << where << " at " << d;
-        if (d > 1e-7) EXPECT_FALSE(in_seen) << where << " at " << d;
-        // Touched with some length or depth: through the square shrunk by 1e-7.
-        const bool through =
-            face ? Meets(px, py, qx, qy, c + 1e-7, r + 1e-7, c + 1 - 1e-7, r + 1 - 1e-7)
-                 : (Meets(px, py, px, py, c + 1e-7, r + 1e-7, c + 1 - 1e-7, r + 1 - 1e-7) ||
-                    Meets(qx, qy, qx, qy, c + 1e-7, r + 1e-7, c + 1 - 1e-7, r + 1 - 1e-7));
-        if (through) EXPECT_TRUE(in_seen) << where;
+        if (d < t - 1e-7) {
+          EXPECT_TRUE(in_near) << where << " at " << d;
+        }
+        if (d > t + 1e-7) {
+          EXPECT_FALSE(in_near) << where << " at " << d;
+        }
+        if (d > 1e-7) {
+          EXPECT_FALSE(in_seen) << where << " at " << d;
+        }
+        if (distance(1e-7) == 0.0) {  // touched with some length or depth
+          EXPECT_TRUE(in_seen) << where;
+        }
         checked_near += in_near;
         checked_seen += in_seen;
       }
