@@ -331,6 +331,21 @@ TEST(OpenClRuntime, AutoTakesOpenClWhenADeviceExists) {
             "opencl: " + found.device_name + (devices > 1 ? " x " + std::to_string(devices) : ""));
 }
 
+TEST(OpenClRuntime, SaysWhetherItsKernelsRunOnTheHostsCores) {
+  // The estimator runs host work beside a stage only where the kernels leave the host's cores
+  // to it or share them: not beside an OpenCL CPU device's threads.
+  FREESPACE_DEVICE_OR_SKIP(found);
+  cl_device_type type = 0;
+  ASSERT_EQ(clGetDeviceInfo(found.device, CL_DEVICE_TYPE, sizeof type, &type, nullptr), CL_SUCCESS);
+  BackendConfig config;
+  config.kind = BackendKind::kOpenCl;
+  EXPECT_EQ(CreateBackend(config, test::SmallParams(5, 5))->KernelsOnHostCores(),
+            (type & CL_DEVICE_TYPE_CPU) != 0)
+      << found.device_name;
+  config.kind = BackendKind::kTbb;
+  EXPECT_FALSE(CreateBackend(config, test::SmallParams(5, 5))->KernelsOnHostCores());
+}
+
 TEST(OpenClRuntime, EstimatorReportsEventTimesOfTheKernelStages) {
   FREESPACE_DEVICE_OR_SKIP(found);
   Config config = test::SmallConfig(60, 60);

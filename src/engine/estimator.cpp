@@ -226,7 +226,7 @@ bool Estimator::Impl::Align(const Scan& scan) {
 
 // The sensor model and the fusion (kernel stages 1, 2), and this scan's echoes for the veto.
 // With backend.threads 0 the mover layer's detection and the face layer run beside the map's
-// update, which does not need them.
+// update, which does not need them (SideWorkBeside()).
 void Estimator::Impl::UpdateMap(bool has_update, const Scan& scan) {
   Result& r = result_;
   if (movers_.enabled()) StartMovers(scan.timestamp_s);
@@ -237,7 +237,7 @@ void Estimator::Impl::UpdateMap(bool has_update, const Scan& scan) {
     };
     const bool beside = movers_.enabled() || FaceRule::Of(config_).tolerance_m > 0;
     sensor_model_->Update(preprocess_.get(), r.vehicle_cells, r.yaw, backend_.get(), &r.times,
-                          SideWork(&detect), beside && config_.backend.threads == 0);
+                          SideWork(&detect), beside && SideWorkBeside());
     const std::vector<std::int32_t>& echoes = preprocess_->echo_cells();
     backend_->SetEchoes(echoes.data(), int(echoes.size()));
     const std::vector<std::int32_t>& near =
@@ -253,6 +253,10 @@ void Estimator::Impl::UpdateMap(bool has_update, const Scan& scan) {
     r.message.assign(scan.points.empty() ? "empty scan: no sensor update"
                                          : "no usable echo: no sensor update");
   }
+}
+
+bool Estimator::Impl::SideWorkBeside() const {
+  return config_.backend.threads == 0 && !backend_->KernelsOnHostCores();
 }
 
 void Estimator::Impl::StartMovers(double t) {

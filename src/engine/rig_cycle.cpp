@@ -163,7 +163,7 @@ bool Estimator::Impl::PreprocessCycle(const Scan* scans) {
 // deskewed and projected, the sensors in parallel (host work on each sensor's own buffers, its
 // time in rasterize_us); then the sensor model's kernels and the fusion in the rig's order, and
 // the footprint, while each scan's face layer and, with the mover layer, its comparison with its
-// sensor's earlier outline run beside them (with backend.threads 0; else after them). The veto
+// sensor's earlier outline run beside them (SideWorkBeside(); else after them). The veto
 // and face layers hold every scan's echoes and faces, the mover layer the cycle's hazard, and
 // the polygon mask's margin follows the lines of sight of the scanners that updated the map.
 void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
@@ -230,7 +230,7 @@ void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
     FuseFootprint();
     apply_us = Micros(begin, Clock::now());
   };
-  if (config_.backend.threads == 0) {
+  if (SideWorkBeside()) {
     tbb::parallel_invoke(beside, apply);
   } else {
     beside();

@@ -126,6 +126,7 @@ OpenClBackend::DeviceLimits OpenClBackend::ChooseWorkShape(WorkShape shape) {
   Check(clGetDeviceInfo(device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof units, &units, nullptr),
         "clGetDeviceInfo");
   compute_units_ = std::max<cl_uint>(units, 1);
+  cpu_device_ = (type & CL_DEVICE_TYPE_CPU) != 0;
   const bool cpu = shape == WorkShape::kDevice ? (type & CL_DEVICE_TYPE_CPU) != 0
                                                : shape == WorkShape::kRowPerItem;
 

@@ -286,6 +286,11 @@ class Backend {
   virtual const std::uint64_t* HostMaskBits() const { return nullptr; }
   virtual void ReadMaskBits(int row_begin, int row_end, std::uint64_t* dst) = 0;
 
+  // Whether the kernels run on the host's cores on threads of the device's own (an OpenCL CPU
+  // device): host work run beside a stage then competes with it for the cores, where the host
+  // backend's TBB loops share them and a GPU leaves them free.
+  virtual bool KernelsOnHostCores() const { return false; }
+
   // Moves the map by whole cells: new(r, c) = old(r + dy, c + dx); cells with no old
   // counterpart are unknown (0).
   virtual void Shift(int dx, int dy) = 0;

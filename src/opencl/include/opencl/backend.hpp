@@ -41,6 +41,7 @@ class OpenClBackend final : public Backend {
 
   // "opencl: <device name>".
   std::string name() const override { return name_; }
+  bool KernelsOnHostCores() const override { return cpu_device_; }
   CrewRequest WantedCrew() const override;
   void UseCrew(Crew* crew) override { crew_ = crew; }
 
@@ -204,7 +205,8 @@ class OpenClBackend final : public Backend {
   Layout layout_;
   int vectors_per_item_ = 1;
   int raster_group_ = 1;
-  bool bands_ = false;  // stage 1 as rasterize_bands (the CPU shape)
+  bool bands_ = false;       // stage 1 as rasterize_bands (the CPU shape)
+  bool cpu_device_ = false;  // CL_DEVICE_TYPE_CPU
   std::size_t compute_units_ = 1;
   WaitPolicy wait_;  // BackendConfig::opencl_wait, opencl_spin_us
 
