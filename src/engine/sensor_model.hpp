@@ -45,7 +45,7 @@ class SensorModel {
   // is left to Preprocessor::ProjectFaces(). Host only and touches nothing but `preprocess` and
   // `out`: several sensors' scans may be projected at once.
   virtual void Project(Preprocessor* preprocess, const Vec2& sensor, double yaw, int width,
-                       int height, ScanProjection* out, bool faces = true) const = 0;
+                       int height, ScanProjection* out, bool faces) const = 0;
 
   // Writes a projected scan into the map of `backend` (rasterization and fusion); adds to
   // times->rasterize_us and fuse_us.
