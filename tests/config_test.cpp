@@ -294,6 +294,12 @@ TEST(ConfigDocs, RangeErrorsComeFromTheTable) {
             std::string::npos);
   EXPECT_NE(ErrorOf("sensor:\n  max_range_m: 5000\n").find("sensor.max_range_m = 5000: must keep"),
             std::string::npos);
+  EXPECT_NE(ErrorOf("sensor:\n  max_range_m: 5000\n").find("the scan reaches 25300 cells"),
+            std::string::npos);
+  // A reach past any integer (the config fuzzer's find: the message cast it to int) is told as
+  // it is.
+  EXPECT_NE(ErrorOf("sensor:\n  max_range_m: 1e136\n").find("the scan reaches 5e+136 cells"),
+            std::string::npos);
   Config c;
   c.backend.kind = BackendKind(7);
   try {

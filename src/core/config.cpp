@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <map>
 #include <set>
@@ -62,8 +63,11 @@ const Relation kRelations[] = {
      "map.resolution_m, plus the map's larger side",
      [](const Config& c) { return ScanReachCells(c) < 16384; },
      [](const Config& c) {
-       return "; with this map.resolution_m the scan reaches " +
-              std::to_string(int(ScanReachCells(c))) +
+       // As a number of cells however far it reaches (a cast to int would overflow).
+       std::ostringstream reach;
+       reach << std::setprecision(std::numeric_limits<double>::digits10)
+             << std::floor(ScanReachCells(c));
+       return "; with this map.resolution_m the scan reaches " + reach.str() +
               " cells (raise the resolution or lower the range)";
      }},
     {"sensor_model.p_free", "must be > sensor_model.p_min",
