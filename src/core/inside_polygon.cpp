@@ -86,7 +86,6 @@ void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sen
                                            const Vec2& b, const NearSide& near, PairPull* pull,
                                            double* scale_a, double* scale_b) const {
   *scale_a = *scale_b = 1.0;
-  *pull = PairPull{};
   const Vec2 u = a - sensor, v = b - sensor;
   const double det = Cross(u, v);     // twice the triangle's area
   if (det <= kAreaTolerance) return;  // no area: the edge runs along its rays
@@ -147,7 +146,7 @@ void InsidePolygonBuilder::Block(int row, int col, const Vec2& sensor, const Vec
 void InsidePolygonBuilder::Settle(const Vec2& sensor, const Vec2& a, const Vec2& b,
                                   const FanPull& bounds, PairPull* pull, double* scale_a,
                                   double* scale_b) {
-  bounds.Choose(scale_a, scale_b);  // pull->split is false: PullBetweenRays cleared it
+  bounds.Choose(scale_a, scale_b);  // pull->split is false: the pull came fresh
   if (pull->count == 0 || pull->overflow) return;
   const CellIndex* begin = pull->blocked;
   const CellIndex* end = pull->blocked + pull->count;

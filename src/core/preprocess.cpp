@@ -198,9 +198,12 @@ void Preprocessor::Project(const Vec2& sensor_cells, double yaw, int width, int 
   job->clear_outline = clear_outline_;
   job->row_begin = std::clamp(r0, 0, height);
   job->row_end = std::clamp(r1, 0, height);
-  face_near_.clear();
-  face_seen_.clear();
-  if (faces) ProjectFaces(width, height);
+  if (faces) {
+    ProjectFaces(width, height);
+  } else {
+    face_near_.clear();
+    face_seen_.clear();
+  }
 }
 
 void Preprocessor::ProjectFaces(int width, int height) {

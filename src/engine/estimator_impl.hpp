@@ -50,14 +50,14 @@ class Estimator::Impl {
   bool CheckInput(const Scan& scan);
   bool Align(const Scan& scan);
   void UpdateMap(bool has_update, const Scan& scan);
-  // polygon.mover_memory_s: a cycle of the mover layer at time t (forgotten on a map reset),
-  // before its scans' MoverTracker::Detect(); then their observations to the tracks and the
-  // hazard at time t with the face layer's `near` cells into hazard_: the cells the polygon mask
-  // keeps out (`near` itself when the layer is off).
   // Whether the side work of a map update (the mover layer's detection, the face layer) runs
   // beside the update: with backend.threads 0, unless the kernels run on the host's cores on
   // threads of their own.
   bool SideWorkBeside() const;
+  // polygon.mover_memory_s: a cycle of the mover layer at time t (forgotten on a map reset),
+  // before its scans' MoverTracker::Detect(); then their observations to the tracks and the
+  // hazard at time t with the face layer's `near` cells into hazard_: the cells the polygon mask
+  // keeps out (`near` itself when the layer is off).
   void StartMovers(double t);
   const std::vector<std::int32_t>& MoverCells(const std::vector<std::int32_t>& near, double t);
   void ClassifyAndScan();

@@ -73,7 +73,7 @@ class InsidePolygonBuilder {
   NearSide Near(const Vec2& sensor, const RayStop& a, const RayStop& b) const;
   // How far a and b may stay of the triangle (sensor, a, b) so that it overlaps no cell outside
   // the mask, where a and b are neighbouring rays' ends: only cells the edge a -> b meets, on
-  // the `near` side, can reach inside.
+  // the `near` side, can reach inside. `pull` comes fresh (PairPull{}).
   void PullBetweenRays(const MaskView& mask, const Vec2& sensor, const Vec2& a, const Vec2& b,
                        const NearSide& near, PairPull* pull, double* scale_a,
                        double* scale_b) const;
