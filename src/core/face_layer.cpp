@@ -19,48 +19,62 @@ struct P {
   double x, y;
 };
 
-double Dist2PointSegment(P c, P a, P b) {
-  const double dx = b.x - a.x, dy = b.y - a.y, l2 = dx * dx + dy * dy;
-  const double t = l2 > 0 ? std::clamp(((c.x - a.x) * dx + (c.y - a.y) * dy) / l2, 0.0, 1.0) : 0.0;
-  const double ex = a.x + t * dx - c.x, ey = a.y + t * dy - c.y;
-  return ex * ex + ey * ey;
-}
-
-double Dist2PointCell(P p, int col, int row) {
+inline double Dist2PointCell(const P& p, int col, int row) {
   const double dx = std::max({col - p.x, 0.0, p.x - (col + 1)});
   const double dy = std::max({row - p.y, 0.0, p.y - (row + 1)});
   return dx * dx + dy * dy;
 }
 
-// Whether the segment a-b meets the closed cell square (Liang-Barsky clipping).
-bool SegmentMeetsCell(P a, P b, int col, int row) {
-  double t0 = 0, t1 = 1;
-  const double d[2] = {b.x - a.x, b.y - a.y};
-  const double lo[2] = {col - a.x, row - a.y}, hi[2] = {col + 1 - a.x, row + 1 - a.y};
-  for (int k = 0; k < 2; ++k) {
-    if (d[k] == 0) {
-      if (lo[k] > 0 || hi[k] < 0) return false;
-      continue;
-    }
-    const double u = lo[k] / d[k], v = hi[k] / d[k];
-    t0 = std::max(t0, std::min(u, v));
-    t1 = std::min(t1, std::max(u, v));
-    if (t0 > t1) return false;
-  }
-  return true;
-}
+// A piece of a face, the segment a-b (a == b: a point), with what every cell's test of it
+// shares worked out once, so that a test divides nothing.
+class Piece {
+ public:
+  Piece(P a, P b)
+      : a_(a),
+        b_(b),
+        dx_(b.x - a.x),
+        dy_(b.y - a.y),
+        inv_l2_(dx_ * dx_ + dy_ * dy_ > 0 ? 1.0 / (dx_ * dx_ + dy_ * dy_) : 0.0),
+        lo_{std::min(a.x, b.x), std::min(a.y, b.y)},
+        hi_{std::max(a.x, b.x), std::max(a.y, b.y)} {}
 
-// The squared distance between the segment a-b and the cell square: 0 when they meet, else the
-// nearest of an end to the square and a corner to the segment.
-double Dist2SegmentCell(P a, P b, int col, int row) {
-  if (SegmentMeetsCell(a, b, col, row)) return 0.0;
-  double d = std::min(Dist2PointCell(a, col, row), Dist2PointCell(b, col, row));
-  for (const P c : {P{double(col), double(row)}, P{col + 1.0, double(row)},
-                    P{double(col), row + 1.0}, P{col + 1.0, row + 1.0}}) {
-    d = std::min(d, Dist2PointSegment(c, a, b));
+  // How the piece reaches the cell square [col, col + 1] x [row, row + 1]: kTouches when they
+  // meet, kNear when it lies within sqrt(t2) of it (an end near the square, or a corner near
+  // the piece), else kApart.
+  enum Reach { kApart, kNear, kTouches };
+  Reach ReachOf(int col, int row, double t2) const {
+    if (inv_l2_ == 0.0) {
+      const double d2 = Dist2PointCell(a_, col, row);
+      return d2 == 0.0 ? kTouches : (d2 <= t2 ? kNear : kApart);
+    }
+    if (Meets(col, row)) return kTouches;
+    if (Dist2PointCell(a_, col, row) <= t2 || Dist2PointCell(b_, col, row) <= t2) return kNear;
+    for (int k = 0; k < 4; ++k) {
+      if (Dist2Corner(col + (k & 1), row + (k >> 1)) <= t2) return kNear;
+    }
+    return kApart;
   }
-  return d;
-}
+
+ private:
+  // Whether the piece meets the closed square: their boxes overlap, and the square's corners are
+  // not all on one side of the piece's line (the axes that could part two convex shapes).
+  bool Meets(int col, int row) const {
+    if (hi_.x < col || lo_.x > col + 1 || hi_.y < row || lo_.y > row + 1) return false;
+    const double f = dx_ * (row - a_.y) - dy_ * (col - a_.x);  // the side of corner (col, row)
+    const double f_lo = f + std::min(0.0, dx_) + std::min(0.0, -dy_);
+    const double f_hi = f + std::max(0.0, dx_) + std::max(0.0, -dy_);
+    return f_lo <= 0.0 && f_hi >= 0.0;
+  }
+  double Dist2Corner(double x, double y) const {
+    const double s = std::clamp(((x - a_.x) * dx_ + (y - a_.y) * dy_) * inv_l2_, 0.0, 1.0);
+    const double ex = a_.x + s * dx_ - x, ey = a_.y + s * dy_ - y;
+    return ex * ex + ey * ey;
+  }
+
+  P a_, b_;
+  double dx_, dy_, inv_l2_;
+  P lo_, hi_;  // the piece's box
+};
 
 // Where the cells go: the two lists, and the last cells found touched (near and seen already),
 // whose tests the next pieces, which mostly share them, skip.
@@ -71,7 +85,9 @@ struct Sink {
   unsigned next = 0;
 
   bool Touched(std::int32_t cell) const {
-    return std::find(std::begin(recent), std::end(recent), cell) != std::end(recent);
+    bool found = false;
+    for (const std::int32_t r : recent) found |= r == cell;
+    return found;
   }
   void Add(std::int32_t cell, bool touched) {
     near->push_back(cell);
@@ -83,18 +99,18 @@ struct Sink {
 
 // The cells within t of the segment a-b (a == b: of a point), into the sink's near list; those it
 // touches, into its seen list.
-void AddPiece(P a, P b, double t, int width, int height, Sink* sink) {
+inline void AddPiece(const P& a, const P& b, double t, int width, int height, Sink* sink) {
   const int c0 = std::max(0, int(std::floor(std::min(a.x, b.x) - t)));
   const int c1 = std::min(width - 1, int(std::floor(std::max(a.x, b.x) + t)));
   const int r0 = std::max(0, int(std::floor(std::min(a.y, b.y) - t)));
   const int r1 = std::min(height - 1, int(std::floor(std::max(a.y, b.y) + t)));
-  const bool point = a.x == b.x && a.y == b.y;
+  const Piece piece(a, b);
   for (int r = r0; r <= r1; ++r) {
     for (int c = c0; c <= c1; ++c) {
       const std::int32_t cell = r * width + c;
       if (sink->Touched(cell)) continue;
-      const double d2 = point ? Dist2PointCell(a, c, r) : Dist2SegmentCell(a, b, c, r);
-      if (d2 <= t * t) sink->Add(cell, d2 == 0);
+      const Piece::Reach reach = piece.ReachOf(c, r, t * t);
+      if (reach != Piece::kApart) sink->Add(cell, reach == Piece::kTouches);
     }
   }
 }
@@ -136,6 +152,10 @@ class FaceWalker {
         continue;
       }
       const int pieces = std::max(1, int(std::ceil(length)));
+      if (pieces == 1) {  // the face itself, its ends as they are
+        if (!Outside(a, b)) AddPiece(a, b, t_, width_, height_, sink);
+        continue;
+      }
       for (int k = 0; k < pieces; ++k) {
         const P u{a.x + (b.x - a.x) * k / pieces, a.y + (b.y - a.y) * k / pieces};
         const P v{a.x + (b.x - a.x) * (k + 1) / pieces, a.y + (b.y - a.y) * (k + 1) / pieces};
@@ -155,7 +175,7 @@ class FaceWalker {
     return std::max(u.x, v.x) + t_ < 0 || std::min(u.x, v.x) - t_ > width_ ||
            std::max(u.y, v.y) + t_ < 0 || std::min(u.y, v.y) - t_ > height_;
   }
-  void AddPoint(P a, Sink* sink) const {
+  void AddPoint(const P& a, Sink* sink) const {
     if (!Outside(a, a)) AddPiece(a, a, t_, width_, height_, sink);
   }
   // Whether `cells` between beams j and k is within the join distance.
