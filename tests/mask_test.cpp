@@ -169,7 +169,7 @@ TEST_P(MaskTest, TheSensorsOwnCellStays) {
 
 TEST_P(MaskTest, MatchesTheRuleOnRandomMaps) {
   std::mt19937 rng(23);
-  for (int trial = 0; trial < 40; ++trial) {
+  for (int trial = 0; trial < 60; ++trial) {
     Scene s;
     s.width = 20 + int(rng() % 150);
     s.height = 20 + int(rng() % 90);
@@ -197,7 +197,7 @@ TEST_P(MaskTest, MatchesTheRuleOnRandomMaps) {
     Config config = test::SmallConfig(s.width, s.height);
     config.polygon.shape = PolygonShape::kInside;
     config.polygon.margin_cells = trial % 4;
-    config.polygon.margin_cone_deg = std::vector<double>{30, 60, 90, 120, 180}[trial % 5];
+    config.polygon.margin_cone_deg = std::vector<double>{10, 30, 60, 90, 120, 180}[trial % 6];
     config.classify.vehicle_width_m = 0.2 * (trial % 7);
     const KernelParams p = MakeKernelParams(config);
     FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), p);
