@@ -239,7 +239,7 @@ void HostBackend::Classify() {
 }
 
 void HostBackend::SetEchoes(const std::int32_t* cells, int count) {
-  host::SetCellBits(cells, count, params_.width, words(), &echo_cells_, &echo_);
+  host::SetCellBits(cells, count, params_.width, words(), &echo_words_, &echo_);
 }
 
 }  // namespace freespace

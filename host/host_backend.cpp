@@ -34,7 +34,7 @@ HostBackend::HostBackend(const KernelParams& params, int threads)
     throw BackendError("tbb backend: map of " + std::to_string(params.width) + " x " +
                        std::to_string(params.height) + " cells; each side must be 1 .. 8192");
   }
-  echo_cells_.reserve(16384);
+  echo_words_.reserve(16384);
 }
 
 void HostBackend::Clear() {
@@ -110,13 +110,15 @@ namespace host {
 
 void SetCellBits(const std::int32_t* cells, int count, int width, int words,
                  std::vector<std::int32_t>* held, std::vector<std::uint64_t>* bits) {
-  const auto word = [&](std::int32_t c) {
-    return std::size_t(c / width) * words + (c % width) / 64;
-  };
-  // Each old cell's word to 0 clears every old bit (all of them are this layer's).
-  for (const std::int32_t c : *held) (*bits)[word(c)] = 0;
-  held->assign(cells, cells + count);
-  for (const std::int32_t c : *held) (*bits)[word(c)] |= std::uint64_t{1} << ((c % width) % 64);
+  // Each old word to 0 clears every old bit (all of them are this layer's).
+  for (const std::int32_t w : *held) (*bits)[std::size_t(w)] = 0;
+  held->resize(std::size_t(count));
+  for (int i = 0; i < count; ++i) {
+    const std::int32_t row = cells[i] / width, col = cells[i] - row * width;
+    const std::int32_t w = row * words + col / 64;
+    (*held)[std::size_t(i)] = w;
+    (*bits)[std::size_t(w)] |= std::uint64_t{1} << (col % 64);
+  }
 }
 
 }  // namespace host

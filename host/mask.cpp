@@ -167,8 +167,8 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
 
 void HostBackend::SetFaces(const std::int32_t* near, int near_count, const std::int32_t* seen,
                            int seen_count) {
-  host::SetCellBits(near, near_count, params_.width, words(), &face_near_cells_, &face_near_);
-  host::SetCellBits(seen, seen_count, params_.width, words(), &face_seen_cells_, &face_seen_);
+  host::SetCellBits(near, near_count, params_.width, words(), &face_near_words_, &face_near_);
+  host::SetCellBits(seen, seen_count, params_.width, words(), &face_seen_words_, &face_seen_);
 }
 
 }  // namespace freespace

@@ -77,11 +77,11 @@ class HostBackend final : public Backend {
   std::vector<std::uint64_t> bits_strong_, bits_weak_, bits_a_, bits_b_, bits_unconfirmed_;
   std::vector<std::uint64_t> free_;       // stage 3 output, stage 4 input: bitset rows
   std::vector<std::uint64_t> echo_;       // this scan's echo cells (SetEchoes), bitset rows
-  std::vector<std::int32_t> echo_cells_;  // and as given, to clear them for the next scan
+  std::vector<std::int32_t> echo_words_;  // the words they set, to clear for the next scan
   std::vector<std::uint64_t> face_near_;  // the face layer (SetFaces): near a face, bitset rows
-  std::vector<std::int32_t> face_near_cells_;  // and as given
+  std::vector<std::int32_t> face_near_words_;  // the words they set
   std::vector<std::uint64_t> face_seen_;       // touched by the outline, bitset rows
-  std::vector<std::int32_t> face_seen_cells_;  // and as given
+  std::vector<std::int32_t> face_seen_words_;  // the words they set
   std::vector<std::uint64_t> mask_;            // stage 3b output: the polygon mask, bitset rows
   RowSpan mask_rows_;                          // every row of mask_ with a set bit
   std::vector<std::uint64_t> edge_seen_;       // stage 4: stop cells already in C_Edge (bitset)
@@ -93,8 +93,9 @@ class HostBackend final : public Backend {
 // OpenCL kernel of the same stem does for that row.
 namespace host {
 
-// A per-scan layer of cells (the echoes, the face layer): replaces the cells `held` last set in
-// the bitset rows `bits` (`words` a row) with `cells` (row * width + col), and holds those.
+// A per-scan layer of cells (the echoes, the face layer): replaces the bits of the words `held`
+// last set in the bitset rows `bits` (`words` a row) with `cells` (row * width + col), and holds
+// the words those set.
 void SetCellBits(const std::int32_t* cells, int count, int width, int words,
                  std::vector<std::int32_t>* held, std::vector<std::uint64_t>* bits);
 
