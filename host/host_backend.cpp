@@ -27,6 +27,9 @@ HostBackend::HostBackend(const KernelParams& params, int threads)
       face_near_(bits_strong_.size(), 0),
       face_seen_(bits_strong_.size(), 0),
       mask_(bits_strong_.size(), 0),
+      mask_blocks_(
+          std::size_t(params.height >> kBlockShift) * (((params.width >> kBlockShift) + 63) / 64),
+          0),
       edge_seen_((cells() + 63) / 64, 0),
       stop_(BorderLabelCount(params.height, params.width), 0),
       delta_(cells(), 0) {

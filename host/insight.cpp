@@ -104,6 +104,8 @@ void HostBackend::InSightExact(const SensorCell& sensor, std::vector<RayStop>* s
   const int labels = BorderLabelCount(height, width);
   stops->resize(std::size_t(labels));
   const std::uint64_t* rows = mask_.data();
+  const BlockView blocks =
+      FullBlocks(rows, nw, width, height, mask_rows_.begin, mask_rows_.end, &mask_blocks_);
   std::int32_t* stop = stop_.data();
   RayStop* out = stops->data();
   arena_.execute([&] {
@@ -111,7 +113,7 @@ void HostBackend::InSightExact(const SensorCell& sensor, std::vector<RayStop>* s
         tbb::blocked_range<int>(0, labels, 32), [&](const tbb::blocked_range<int>& range) {
           for (int l = range.begin(); l != range.end(); ++l) {
             const CellIndex target = BorderCell(l, height, width);
-            out[l] = TraceExactRayRows(rows, nw, width, sensor, target.col, target.row);
+            out[l] = TraceExactRayBlocks(rows, nw, width, blocks, sensor, target.col, target.row);
             stop[l] = out[l].cell;
           }
         });

@@ -234,6 +234,104 @@ TEST(ExactRays, RowsGiveTheStopsOfTheCellWalkAndStopWhereTheRayMeetsABlockedCell
   EXPECT_GT(rays, 20000);
 }
 
+// The exact rays over full blocks (TraceExactRayBlocks) give the stops of TraceExactRay on
+// random masks that are mostly allowed (so that most blocks are full): sparse blocked cells and
+// blocked rectangles, sensors on block corners and edges and cell edges included.
+TEST(ExactRays, FullBlocksGiveTheStopsOfTheCellWalk) {
+  std::mt19937 rng(8);
+  long rays = 0, through_blocks = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    const int width = 1 + int(rng() % 200), height = 1 + int(rng() % 200);
+    const int words = (width + 63) / 64;
+    std::vector<std::uint64_t> bits(std::size_t(words) * height, 0);
+    std::bernoulli_distribution blocked((trial % 5) * 0.002);
+    std::vector<std::uint8_t> cells(std::size_t(width) * height, 1);
+    for (auto& c : cells) c = !blocked(rng);
+    if (trial % 3 == 2) {  // a cell at some block corners: what a ray through the corner meets
+      for (int y = kBlockCells; y < height; y += kBlockCells) {
+        for (int x = kBlockCells; x < width; x += kBlockCells) {
+          if (rng() % 8 != 0) continue;
+          cells[std::size_t(y - int(rng() % 2)) * width + x - int(rng() % 2)] = 0;
+        }
+      }
+    }
+    for (int k = int(rng() % 6); k > 0; --k) {  // walls and boxes
+      const int c0 = int(rng() % width), r0 = int(rng() % height);
+      const int c1 = std::min(width, c0 + 1 + int(rng() % 12));
+      const int r1 = std::min(height, r0 + 1 + int(rng() % 12));
+      for (int r = r0; r < r1; ++r) {
+        for (int c = c0; c < c1; ++c) cells[std::size_t(r) * width + c] = 0;
+      }
+    }
+    for (int r = 0; r < height; ++r) {
+      for (int c = 0; c < width; ++c) {
+        if (cells[std::size_t(r) * width + c])
+          bits[std::size_t(r) * words + c / 64] |= std::uint64_t{1} << (c % 64);
+      }
+    }
+    const auto allowed = [&](int x, int y) {
+      return (bits[std::size_t(y) * words + (x >> 6)] >> (x & 63)) & 1;
+    };
+    std::vector<std::uint64_t> block_bits;
+    const int row_begin = trial % 7 == 0 ? height / 3 : 0;  // rows below it set nothing
+    for (int r = 0; r < row_begin; ++r) {
+      for (int w = 0; w < words; ++w) bits[std::size_t(r) * words + w] = 0;
+    }
+    const BlockView blocks =
+        FullBlocks(bits.data(), words, width, height, row_begin, height, &block_bits);
+    SensorCell s;
+    s.x = int(rng() % (width * kFixedOne));
+    s.y = int(rng() % (height * kFixedOne));
+    if (trial % 3 != 1) s.x -= s.x % (kBlockCells * kFixedOne);  // on a block edge or corner
+    if (trial % 4 != 1) s.y -= s.y % (trial % 2 == 0 ? kBlockCells * kFixedOne : kFixedOne);
+    if (trial % 5 == 1) s.x -= s.x % (kFixedOne / 2);
+    s.cell = {s.y / kFixedOne, s.x / kFixedOne};
+    for (int l = 0; l < BorderLabelCount(height, width); ++l) {
+      const CellIndex t = BorderCell(l, height, width);
+      const RayStop walk = TraceExactRay(allowed, width, s, t.col, t.row);
+      const RayStop fast = TraceExactRayBlocks(bits.data(), words, width, blocks, s, t.col, t.row);
+      ASSERT_EQ(fast.cell, walk.cell) << "trial " << trial << " label " << l;
+      ASSERT_EQ(fast.kind, walk.kind) << "trial " << trial << " label " << l;
+      ASSERT_EQ(fast.line, walk.line) << "trial " << trial << " label " << l;
+      ++rays;
+      through_blocks += blocks.Full(s.cell.col >> kBlockShift, s.cell.row >> kBlockShift);
+    }
+  }
+  EXPECT_GT(rays, 50000);
+  EXPECT_GT(through_blocks, 20000);  // rays that start in a full block
+}
+
+// Every block FullBlocks() calls full has all its cells allowed and inside the map, and every
+// other block does not.
+TEST(ExactRays, FullBlocksAreTheBlocksOfAllowedCells) {
+  std::mt19937 rng(9);
+  for (int trial = 0; trial < 100; ++trial) {
+    const int width = 1 + int(rng() % 300), height = 1 + int(rng() % 100);
+    const int words = (width + 63) / 64;
+    std::vector<std::uint64_t> bits(std::size_t(words) * height, 0);
+    std::bernoulli_distribution blocked(0.002 * (trial % 4));
+    for (int r = 0; r < height; ++r) {
+      for (int c = 0; c < width; ++c) {
+        if (!blocked(rng)) bits[std::size_t(r) * words + c / 64] |= std::uint64_t{1} << (c % 64);
+      }
+    }
+    std::vector<std::uint64_t> block_bits;
+    const BlockView blocks = FullBlocks(bits.data(), words, width, height, 0, height, &block_bits);
+    for (int br = -1; br <= height / kBlockCells + 1; ++br) {
+      for (int bc = -1; bc <= width / kBlockCells + 1; ++bc) {
+        bool full = br >= 0 && bc >= 0;
+        for (int r = br * kBlockCells; full && r < (br + 1) * kBlockCells; ++r) {
+          for (int c = bc * kBlockCells; full && c < (bc + 1) * kBlockCells; ++c) {
+            full = r < height && c < width &&
+                   ((bits[std::size_t(r) * words + c / 64] >> (c % 64)) & 1);
+          }
+        }
+        ASSERT_EQ(blocks.Full(bc, br), full) << "trial " << trial << " block " << bc << ", " << br;
+      }
+    }
+  }
+}
+
 // Both backends' exact rays on a mask made by stage 3b with no margin: the free mask plus the
 // sensor's cell, against TraceExactRay.
 TEST_P(InSightTest, ExactRaysMatchTheCellWalk) {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "core/fixed_point.hpp"
 #include "freespace/types.hpp"
@@ -110,40 +111,51 @@ inline int FirstClearBit(const std::uint64_t* line, int from, int to) {
   return -1;
 }
 
-// TraceExactRay() on a bitset of allowed cells (rows `words` words apart): the same stops,
-// faster. The ray carries TraceExactRay's comparison as an error term e = ey - ex (> 0: the
-// vertical edge comes first), which a vertical edge crossed lowers by b and a horizontal one
-// raises by a, so no step multiplies. A ray that crosses four vertical edges or more between
-// two horizontal ones (q = a / b >= 4) takes a row's part at a time, tested 64 cells a word:
-// it crosses q or q + 1 of them in each row, as the remainder it carries says.
-inline RayStop TraceExactRayRows(const std::uint64_t* bits, int words, int width,
-                                 const SensorCell& s, int target_col, int target_row) {
-  const std::int64_t dx = std::int64_t(target_col) * kFixedOne + kFixedHalf - s.x;
-  const std::int64_t dy = std::int64_t(target_row) * kFixedOne + kFixedHalf - s.y;
-  const int step_x = dx > 0 ? 1 : (dx < 0 ? -1 : 0), step_y = dy > 0 ? 1 : (dy < 0 ? -1 : 0);
-  const std::int64_t adx = dx < 0 ? -dx : dx, ady = dy < 0 ? -dy : dy;
+// What the walk of an exact ray carries (TraceExactRayRows): its steps and |dx|, |dy| (fixed
+// point), nx0 and ny0 the distances from the sensor to the first vertical and horizontal cell
+// edges along each axis, a = kFixedOne |dx| and b = kFixedOne |dy| (what crossing a horizontal
+// and a vertical edge adds to the error term), q = a / b, r = a % b, and the error term in the
+// sensor's cell, e0 = ny0 |dx| - nx0 |dy| (> 0: a vertical edge comes first).
+struct ExactRayWalk {
+  int step_x = 0, step_y = 0;
+  std::int64_t adx = 0, ady = 0, nx0 = 0, ny0 = 0, a = 0, b = 0, q = 0, r = 0, e0 = 0;
+
+  ExactRayWalk(const SensorCell& s, int target_col, int target_row) {
+    const std::int64_t dx = std::int64_t(target_col) * kFixedOne + kFixedHalf - s.x;
+    const std::int64_t dy = std::int64_t(target_row) * kFixedOne + kFixedHalf - s.y;
+    step_x = dx > 0 ? 1 : (dx < 0 ? -1 : 0);
+    step_y = dy > 0 ? 1 : (dy < 0 ? -1 : 0);
+    adx = dx < 0 ? -dx : dx;
+    ady = dy < 0 ? -dy : dy;
+    const int cx = s.cell.col, cy = s.cell.row;
+    nx0 = step_x > 0 ? std::int64_t(cx + 1) * kFixedOne - s.x
+                     : std::int64_t(s.x) - std::int64_t(cx) * kFixedOne;
+    ny0 = step_y > 0 ? std::int64_t(cy + 1) * kFixedOne - s.y
+                     : std::int64_t(s.y) - std::int64_t(cy) * kFixedOne;
+    if (step_x == 0 || step_y == 0) return;  // along a row or a column: no error term
+    a = std::int64_t(kFixedOne) * adx;
+    b = std::int64_t(kFixedOne) * ady;
+    q = a / b;
+    r = a % b;
+    e0 = ny0 * adx - nx0 * ady;
+  }
+  // The error term in cell (cx, cy) of the ray: each vertical edge crossed lowers it by b, each
+  // horizontal one raises it by a.
+  std::int64_t ErrorAt(const SensorCell& s, int cx, int cy) const {
+    return e0 - std::int64_t((cx - s.cell.col) * step_x) * b +
+           std::int64_t((cy - s.cell.row) * step_y) * a;
+  }
+};
+
+// The diagonal ray `k` on from cell (cx, cy) with error term e to the centre of border cell
+// (target_col, target_row), as TraceExactRayRows() walks it.
+inline RayStop WalkExactRay(const std::uint64_t* bits, int words, int width, const ExactRayWalk& k,
+                            int cx, int cy, std::int64_t e, int target_col, int target_row) {
+  const int step_x = k.step_x, step_y = k.step_y;
+  const std::int64_t a = k.a, b = k.b, q = k.q, r = k.r;
   const auto allowed = [&](int x, int y) {
     return (bits[std::size_t(y) * words + (x >> 6)] >> (x & 63)) & 1;
   };
-  int cx = s.cell.col, cy = s.cell.row;
-  if (step_y == 0 || step_x == 0) {  // along a row or a column: no corner on the way
-    while (cx != target_col || cy != target_row) {
-      cx += step_x;
-      cy += step_y;
-      if (!allowed(cx, cy)) {
-        if (step_y == 0) return {cy * width + cx, kRayCrossX, step_x > 0 ? cx : cx + 1};
-        return {cy * width + cx, kRayCrossY, step_y > 0 ? cy : cy + 1};
-      }
-    }
-    return {cy * width + cx, kRayEnd, 0};
-  }
-  const std::int64_t nx = step_x > 0 ? std::int64_t(cx + 1) * kFixedOne - s.x
-                                     : std::int64_t(s.x) - std::int64_t(cx) * kFixedOne;
-  const std::int64_t ny = step_y > 0 ? std::int64_t(cy + 1) * kFixedOne - s.y
-                                     : std::int64_t(s.y) - std::int64_t(cy) * kFixedOne;
-  const std::int64_t a = std::int64_t(kFixedOne) * adx, b = std::int64_t(kFixedOne) * ady;
-  const std::int64_t q = a / b, r = a % b;
-  std::int64_t e = ny * adx - nx * ady;
   // At a corner (e == 0): the three cells beyond it, then the diagonal step.
   const auto corner = [&](RayStop* stop) {
     const int edge_x = step_x > 0 ? cx + 1 : cx;
@@ -202,6 +214,112 @@ inline RayStop TraceExactRayRows(const std::uint64_t* bits, int words, int width
     // carry) / b) vertical edges.
     e = a - carry;
     crossings = q + (r > carry ? 1 : (r - carry == -b ? -1 : 0));
+  }
+}
+
+// TraceExactRay() on a bitset of allowed cells (rows `words` words apart): the same stops,
+// faster. The ray carries TraceExactRay's comparison as an error term e = ey - ex (> 0: the
+// vertical edge comes first), which a vertical edge crossed lowers by b and a horizontal one
+// raises by a, so no step multiplies. A ray that crosses four vertical edges or more between
+// two horizontal ones (q = a / b >= 4) takes a row's part at a time, tested 64 cells a word:
+// it crosses q or q + 1 of them in each row, as the remainder it carries says.
+inline RayStop TraceExactRayRows(const std::uint64_t* bits, int words, int width,
+                                 const SensorCell& s, int target_col, int target_row) {
+  const ExactRayWalk k(s, target_col, target_row);
+  int cx = s.cell.col, cy = s.cell.row;
+  if (k.step_y == 0 || k.step_x == 0) {  // along a row or a column: no corner on the way
+    while (cx != target_col || cy != target_row) {
+      cx += k.step_x;
+      cy += k.step_y;
+      if (!((bits[std::size_t(cy) * words + (cx >> 6)] >> (cx & 63)) & 1)) {
+        if (k.step_y == 0) return {cy * width + cx, kRayCrossX, k.step_x > 0 ? cx : cx + 1};
+        return {cy * width + cx, kRayCrossY, k.step_y > 0 ? cy : cy + 1};
+      }
+    }
+    return {cy * width + cx, kRayEnd, 0};
+  }
+  return WalkExactRay(bits, words, width, k, cx, cy, k.e0, target_col, target_row);
+}
+
+// The blocks of kBlockCells x kBlockCells cells whose cells are all allowed, as bitset rows: bit
+// bc % 64 of word bc / 64 of block row br (rows `words` words apart) is 1 when every cell of
+// block (br, bc), rows kBlockCells br .. and columns kBlockCells bc .., lies in the map and is
+// allowed.
+inline constexpr int kBlockShift = 3;
+inline constexpr int kBlockCells = 1 << kBlockShift;
+struct BlockView {
+  int rows = 0, cols = 0, words = 0;
+  const std::uint64_t* bits = nullptr;
+
+  bool Full(int bc, int br) const {
+    return bc >= 0 && br >= 0 && bc < cols && br < rows &&
+           ((bits[std::size_t(br) * words + (bc >> 6)] >> (bc & 63)) & 1);
+  }
+};
+
+// The full blocks of a width x height bitset of allowed cells (rows `words` words apart) whose
+// set bits all lie in rows [row_begin, row_end), into `blocks`; returns their view.
+BlockView FullBlocks(const std::uint64_t* bits, int words, int width, int height, int row_begin,
+                     int row_end, std::vector<std::uint64_t>* blocks);
+
+// TraceExactRayRows() with the full blocks of its bitset (FullBlocks()): the same stops. A
+// diagonal ray within four rows' steps of a row's direction or more steep (q < 4) passes the full
+// blocks from the sensor's on a block at a time, as TraceExactRay() would cross their cells
+// (none of them can stop it; at a block corner, the three blocks beyond it full), and walks on
+// cell by cell from the last cell before the first block that is not full or holds its target.
+inline RayStop TraceExactRayBlocks(const std::uint64_t* bits, int words, int width,
+                                   const BlockView& blocks, const SensorCell& s, int target_col,
+                                   int target_row) {
+  const ExactRayWalk k(s, target_col, target_row);
+  int bx = s.cell.col >> kBlockShift, by = s.cell.row >> kBlockShift;
+  const int tbx = target_col >> kBlockShift, tby = target_row >> kBlockShift;
+  const auto open = [&](int x, int y) { return blocks.Full(x, y) && (x != tbx || y != tby); };
+  if (k.step_x == 0 || k.step_y == 0 || k.q >= 4 || !open(bx, by))
+    return TraceExactRayRows(bits, words, width, s, target_col, target_row);
+  // Distances (fixed point, along each axis) from the sensor to the block's next edges.
+  constexpr std::int64_t kBlock = std::int64_t(kFixedOne) << kBlockShift;
+  std::int64_t nx = k.step_x > 0 ? (bx + 1) * kBlock - s.x : s.x - bx * kBlock;
+  std::int64_t ny = k.step_y > 0 ? (by + 1) * kBlock - s.y : s.y - by * kBlock;
+  const auto last = [](int block, int step) {  // the block's last cell along a step
+    return step > 0 ? (block << kBlockShift) + kBlockCells - 1 : block << kBlockShift;
+  };
+  while (true) {
+    const std::int64_t ex = nx * k.ady, ey = ny * k.adx;  // the block edge crossed first
+    int cx, cy;
+    if (ex < ey) {
+      if (open(bx + k.step_x, by)) {
+        bx += k.step_x;
+        nx += kBlock;
+        continue;
+      }
+      // The horizontal cell edges crossed before the vertical block edge: j >= 0 with
+      // (ny0 + kFixedOne j) |dx| < ex.
+      const std::int64_t before = ex - k.ny0 * k.adx;
+      cx = last(bx, k.step_x);
+      cy = s.cell.row + k.step_y * int(before > 0 ? (before + k.a - 1) / k.a : 0);
+    } else if (ey < ex) {
+      if (open(bx, by + k.step_y)) {
+        by += k.step_y;
+        ny += kBlock;
+        continue;
+      }
+      const std::int64_t before = ey - k.nx0 * k.ady;
+      cx = s.cell.col + k.step_x * int(before > 0 ? (before + k.b - 1) / k.b : 0);
+      cy = last(by, k.step_y);
+    } else {  // through a block corner: the three blocks beyond it
+      if (open(bx + k.step_x, by + k.step_y) && blocks.Full(bx + k.step_x, by) &&
+          blocks.Full(bx, by + k.step_y)) {
+        bx += k.step_x;
+        by += k.step_y;
+        nx += kBlock;
+        ny += kBlock;
+        continue;
+      }
+      cx = last(bx, k.step_x);
+      cy = last(by, k.step_y);
+    }
+    return WalkExactRay(bits, words, width, k, cx, cy, k.ErrorAt(s, cx, cy), target_col,
+                        target_row);
   }
 }
 
