@@ -54,19 +54,6 @@ MoverRule MoverRule::Of(const Config& config) {
   return rule;
 }
 
-float FastAtan2(float y, float x) {
-  // atan on [-1, 1] by an odd polynomial (error below 1e-5), then the octant.
-  const float ax = std::abs(x), ay = std::abs(y);
-  if (ax == 0.0f && ay == 0.0f) return 0.0f;
-  const bool steep = ay > ax;
-  const float z = steep ? ax / ay : ay / ax, z2 = z * z;
-  float a = z * (0.9998660f +
-                 z2 * (-0.3302995f + z2 * (0.1801410f + z2 * (-0.0851330f + z2 * 0.0208351f))));
-  if (steep) a = 1.57079633f - a;
-  if (x < 0.0f) a = 3.14159265f - a;
-  return y < 0.0f ? -a : a;
-}
-
 bool InsideOutline(const MoverTracker::Outline& outline, const Vec2& p, double bin_width_rad,
                    double margin, int spread, std::size_t* at) {
   const double c = outline.cos_yaw, s = outline.sin_yaw;

@@ -26,6 +26,7 @@
 // see free now (inside their outlines): those hold no vehicle, or its echoes would show.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <deque>
 #include <vector>
@@ -175,7 +176,18 @@ class MoverTracker {
 };
 
 // atan2 to within 1e-5 rad, at a fraction of its cost: the outlines' angles and their look-ups.
-float FastAtan2(float y, float x);
+inline float FastAtan2(float y, float x) {
+  // atan on [-1, 1] by an odd polynomial (error below 1e-5), then the octant.
+  const float ax = std::abs(x), ay = std::abs(y);
+  if (ax == 0.0f && ay == 0.0f) return 0.0f;
+  const bool steep = ay > ax;
+  const float z = steep ? ax / ay : ay / ax, z2 = z * z;
+  float a = z * (0.9998660f +
+                 z2 * (-0.3302995f + z2 * (0.1801410f + z2 * (-0.0851330f + z2 * 0.0208351f))));
+  if (steep) a = 1.57079633f - a;
+  if (x < 0.0f) a = 3.14159265f - a;
+  return y < 0.0f ? -a : a;
+}
 
 // Whether world point p lies inside `outline` by more than `margin` metres along its beam: nearer
 // than the two beams on either side of its angle and `spread` more on each side (so that a
