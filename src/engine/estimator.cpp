@@ -4,6 +4,8 @@
 // polygon in world coordinates.
 #include "freespace/estimator.hpp"
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -225,25 +227,26 @@ bool Estimator::Impl::Align(const Scan& scan) {
 }
 
 // The sensor model and the fusion (kernel stages 1, 2), and this scan's echoes for the veto.
-// With backend.threads 0 the mover layer's detection and the face layer run beside the map's
-// update, which does not need them (SideWorkBeside()).
+// With backend.threads 0 the mover layer's detection runs beside the map's update and the face
+// layer beside the classification, which need neither (SideWorkBeside()).
 void Estimator::Impl::UpdateMap(bool has_update, const Scan& scan) {
   Result& r = result_;
   if (movers_.enabled()) StartMovers(scan.timestamp_s);
+  faces_pending_ = false;
   if (has_update) {
     const auto detect = [&] {
       if (movers_.enabled())
         movers_.Detect(0, r.sensor_pose, scan.timestamp_s, preprocess_->beams());
     };
-    const bool beside = movers_.enabled() || FaceRule::Of(config_).tolerance_m > 0;
+    const bool faces = FaceRule::Of(config_).tolerance_m > 0;
+    const bool beside = (movers_.enabled() || faces) && SideWorkBeside();
     sensor_model_->Update(preprocess_.get(), r.vehicle_cells, r.yaw, backend_.get(), &r.times,
-                          SideWork(&detect), beside && SideWorkBeside());
+                          SideWork(&detect), beside);
     const std::vector<std::int32_t>& echoes = preprocess_->echo_cells();
     backend_->SetEchoes(echoes.data(), int(echoes.size()));
-    const std::vector<std::int32_t>& near =
-        MoverCells(preprocess_->face_near_cells(), scan.timestamp_s);
-    const std::vector<std::int32_t>& seen = preprocess_->face_seen_cells();
-    backend_->SetFaces(near.data(), int(near.size()), seen.data(), int(seen.size()));
+    faces_t_ = scan.timestamp_s;
+    faces_pending_ = beside && faces;
+    if (!faces_pending_) SetFaceLayer();
   } else {
     backend_->SetEchoes(nullptr, 0);
     const std::vector<std::int32_t> none;
@@ -253,6 +256,12 @@ void Estimator::Impl::UpdateMap(bool has_update, const Scan& scan) {
     r.message.assign(scan.points.empty() ? "empty scan: no sensor update"
                                          : "no usable echo: no sensor update");
   }
+}
+
+void Estimator::Impl::SetFaceLayer() {
+  const std::vector<std::int32_t>& near = MoverCells(preprocess_->face_near_cells(), faces_t_);
+  const std::vector<std::int32_t>& seen = preprocess_->face_seen_cells();
+  backend_->SetFaces(near.data(), int(near.size()), seen.data(), int(seen.size()));
 }
 
 bool Estimator::Impl::SideWorkBeside() const {
@@ -287,9 +296,19 @@ const std::vector<std::int32_t>& Estimator::Impl::MoverCells(const std::vector<s
 }
 
 // Kernel stage 3 (classification + opening) and the border rays (stage 4).
+// A face layer left by UpdateMap() is projected beside the classification; classify_us takes
+// what it adds.
 void Estimator::Impl::ClassifyAndScan() {
   const Clock::time_point start = Clock::now();
-  backend_->Classify();
+  if (faces_pending_) {
+    const int width = config_.map.width_cells, height = config_.map.height_cells;
+    tbb::parallel_invoke([&] { backend_->Classify(); },
+                         [&] { preprocess_->ProjectFaces(width, height); });
+    faces_pending_ = false;
+    SetFaceLayer();
+  } else {
+    backend_->Classify();
+  }
   result_.times.classify_us = Micros(start, Clock::now());
   polygon_->CastRays(result_.vehicle_cells, result_.vehicle_cell, cycle_scanners_, backend_.get(),
                      &result_.edge_cells, &result_.times);

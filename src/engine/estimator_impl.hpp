@@ -60,6 +60,8 @@ class Estimator::Impl {
   // keeps out (`near` itself when the layer is off).
   void StartMovers(double t);
   const std::vector<std::int32_t>& MoverCells(const std::vector<std::int32_t>& near, double t);
+  // The face layer of the scan at faces_t_ with the mover layer's hazard to the backend.
+  void SetFaceLayer();
   void ClassifyAndScan();
   void ExtractPolygon();
   // Classification, border rays and polygon, then the times; ends every accepted scan or cycle.
@@ -116,8 +118,10 @@ class Estimator::Impl {
   std::vector<std::int32_t> cycle_face_seen_;  // near, seen
   MoverTracker movers_;                        // polygon.mover_memory_s
   std::vector<std::int32_t> hazard_;           // its cells and the face layer's near ones
-  std::vector<Vec2> cycle_scanners_;           // map cells of the cycle's scanners with an update
-  std::int32_t footprint_[8] = {};             // the footprint's corners, fixed point
+  bool faces_pending_ = false;                 // this scan's face layer waits for ClassifyAndScan()
+  double faces_t_ = 0.0;              // the time of the scan whose face layer SetFaceLayer() sets
+  std::vector<Vec2> cycle_scanners_;  // map cells of the cycle's scanners with an update
+  std::int32_t footprint_[8] = {};    // the footprint's corners, fixed point
   mutable std::vector<LogOdds> map_mirror_;
   mutable std::vector<std::uint8_t> free_mirror_;
 };

@@ -69,16 +69,12 @@ void SensorModel::Update(Preprocessor* preprocess, const Vec2& sensor, double ya
     return;
   }
   double apply_us = 0.0;
-  tbb::parallel_invoke(
-      [&] {
-        beside();
-        preprocess->ProjectFaces(width, height);
-      },
-      [&] {
-        const Clock::time_point begin = Clock::now();
-        Apply(scan, backend, times);
-        apply_us = Micros(begin, Clock::now());
-      });
+  tbb::parallel_invoke([&] { beside(); },
+                       [&] {
+                         const Clock::time_point begin = Clock::now();
+                         Apply(scan, backend, times);
+                         apply_us = Micros(begin, Clock::now());
+                       });
   times->rasterize_us += std::max(0.0, Micros(projected, Clock::now()) - apply_us);
 }
 
