@@ -304,12 +304,14 @@ void Estimator::Impl::ClassifyAndScan() {
     const int width = config_.map.width_cells, height = config_.map.height_cells;
     tbb::parallel_invoke([&] { backend_->Classify(); },
                          [&] { preprocess_->ProjectFaces(width, height); });
-    faces_pending_ = false;
-    SetFaceLayer();
   } else {
     backend_->Classify();
   }
   result_.times.classify_us = Micros(start, Clock::now());
+  if (faces_pending_) {  // the mover layer's part counts in rasterize_us (MoverCells)
+    faces_pending_ = false;
+    SetFaceLayer();
+  }
   polygon_->CastRays(result_.vehicle_cells, result_.vehicle_cell, cycle_scanners_, backend_.get(),
                      &result_.edge_cells, &result_.times);
 }
