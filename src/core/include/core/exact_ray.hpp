@@ -263,10 +263,11 @@ BlockView FullBlocks(const std::uint64_t* bits, int words, int width, int height
                      int row_end, std::vector<std::uint64_t>* blocks);
 
 // TraceExactRayRows() with the full blocks of its bitset (FullBlocks()): the same stops. A
-// diagonal ray within four rows' steps of a row's direction or more steep (q < 4) passes the full
-// blocks from the sensor's on a block at a time, as TraceExactRay() would cross their cells
-// (none of them can stop it; at a block corner, the three blocks beyond it full), and walks on
-// cell by cell from the last cell before the first block that is not full or holds its target.
+// diagonal ray that crosses fewer than four vertical edges between two horizontal ones (q < 4,
+// the walk a cell at a time) crosses the full blocks from the sensor's on a block at a time, as
+// TraceExactRay() would cross their cells (none of them can stop it; at a block corner the three
+// blocks beyond it must be full), then walks on cell by cell from its last cell before the first
+// block that is not full or holds its target, the error term worked out for that cell.
 inline RayStop TraceExactRayBlocks(const std::uint64_t* bits, int words, int width,
                                    const BlockView& blocks, const SensorCell& s, int target_col,
                                    int target_row) {
