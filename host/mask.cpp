@@ -46,7 +46,7 @@ bool ConeColumns(const KernelParams& p, const MarginViews& views, int row, int d
     // vx = kFixedOne c + kFixedHalf - x, and both a vx + b >= 0: after e2, before e1.
     double c_lo = -1.0, c_hi = p.width;
     bool empty = false;
-    for (const auto [a, b] : {std::pair{-e2y, e2x * vy}, std::pair{e1y, -e1x * vy}}) {
+    for (const auto& [a, b] : {std::pair{-e2y, e2x * vy}, std::pair{e1y, -e1x * vy}}) {
       if (a == 0.0) {
         empty = empty || b < 0.0;
         continue;

@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 
 #include "core/fixed_point.hpp"
 #include "core/preprocess.hpp"

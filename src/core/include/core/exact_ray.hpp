@@ -217,15 +217,10 @@ inline RayStop WalkExactRay(const std::uint64_t* bits, int words, int width, con
   }
 }
 
-// TraceExactRay() on a bitset of allowed cells (rows `words` words apart): the same stops,
-// faster. The ray carries TraceExactRay's comparison as an error term e = ey - ex (> 0: the
-// vertical edge comes first), which a vertical edge crossed lowers by b and a horizontal one
-// raises by a, so no step multiplies. A ray that crosses four vertical edges or more between
-// two horizontal ones (q = a / b >= 4) takes a row's part at a time, tested 64 cells a word:
-// it crosses q or q + 1 of them in each row, as the remainder it carries says.
-inline RayStop TraceExactRayRows(const std::uint64_t* bits, int words, int width,
-                                 const SensorCell& s, int target_col, int target_row) {
-  const ExactRayWalk k(s, target_col, target_row);
+// The ray `k` from the sensor's cell, as TraceExactRayRows() walks it.
+inline RayStop WalkExactRayFromSensor(const std::uint64_t* bits, int words, int width,
+                                      const ExactRayWalk& k, const SensorCell& s, int target_col,
+                                      int target_row) {
   int cx = s.cell.col, cy = s.cell.row;
   if (k.step_y == 0 || k.step_x == 0) {  // along a row or a column: no corner on the way
     while (cx != target_col || cy != target_row) {
@@ -239,6 +234,18 @@ inline RayStop TraceExactRayRows(const std::uint64_t* bits, int words, int width
     return {cy * width + cx, kRayEnd, 0};
   }
   return WalkExactRay(bits, words, width, k, cx, cy, k.e0, target_col, target_row);
+}
+
+// TraceExactRay() on a bitset of allowed cells (rows `words` words apart): the same stops,
+// faster. The ray carries TraceExactRay's comparison as an error term e = ey - ex (> 0: the
+// vertical edge comes first), which a vertical edge crossed lowers by b and a horizontal one
+// raises by a, so no step multiplies. A ray that crosses four vertical edges or more between
+// two horizontal ones (q = a / b >= 4) takes a row's part at a time, tested 64 cells a word:
+// it crosses q or q + 1 of them in each row, as the remainder it carries says.
+inline RayStop TraceExactRayRows(const std::uint64_t* bits, int words, int width,
+                                 const SensorCell& s, int target_col, int target_row) {
+  return WalkExactRayFromSensor(bits, words, width, ExactRayWalk(s, target_col, target_row), s,
+                                target_col, target_row);
 }
 
 // The blocks of kBlockCells x kBlockCells cells whose cells are all allowed, as bitset rows: bit
@@ -276,7 +283,7 @@ inline RayStop TraceExactRayBlocks(const std::uint64_t* bits, int words, int wid
   const int tbx = target_col >> kBlockShift, tby = target_row >> kBlockShift;
   const auto open = [&](int x, int y) { return blocks.Full(x, y) && (x != tbx || y != tby); };
   if (k.step_x == 0 || k.step_y == 0 || k.q >= 4 || !open(bx, by))
-    return TraceExactRayRows(bits, words, width, s, target_col, target_row);
+    return WalkExactRayFromSensor(bits, words, width, k, s, target_col, target_row);
   // Distances (fixed point, along each axis) from the sensor to the block's next edges.
   constexpr std::int64_t kBlock = std::int64_t(kFixedOne) << kBlockShift;
   std::int64_t nx = k.step_x > 0 ? (bx + 1) * kBlock - s.x : s.x - bx * kBlock;
