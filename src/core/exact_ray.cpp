@@ -42,19 +42,4 @@ BlockView FullBlocks(const std::uint64_t* bits, int words, int width, int height
   return view;
 }
 
-Vec2 RayStopPoint(const SensorCell& s, int target_col, int target_row, const RayStop& stop) {
-  const Vec2 sensor(double(s.x) / kFixedOne, double(s.y) / kFixedOne);
-  const Vec2 target(target_col + 0.5, target_row + 0.5);
-  const Vec2 d = target - sensor;
-  switch (stop.kind) {
-    case kRayCrossX:
-    case kRayCorner:
-      return {double(stop.line), sensor.y() + (stop.line - sensor.x()) / d.x() * d.y()};
-    case kRayCrossY:
-      return {sensor.x() + (stop.line - sensor.y()) / d.y() * d.x(), double(stop.line)};
-    default:
-      return target;
-  }
-}
-
 }  // namespace freespace

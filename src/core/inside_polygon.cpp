@@ -372,8 +372,9 @@ bool InsidePolygonBuilder::Build(const MaskView& mask, const SensorCell& s,
   // Each part takes its rays' ends and the pairs within them; the pairs across two parts follow.
   const auto bound = [&](int part) { return int(std::int64_t(pairs) * part / parts_); };
   const auto run = [&](int part) {
-    part_beyond_[std::size_t(part)] = RayEnds(s, stops, bound(part), bound(part + 1));
-    for (int k = bound(part); k + 1 < bound(part + 1); ++k) BetweenRays(mask, sensor, k);
+    const int begin = bound(part), end = bound(part + 1);  // once: each is a division
+    part_beyond_[std::size_t(part)] = RayEnds(s, stops, begin, end);
+    for (int k = begin; k + 1 < end; ++k) BetweenRays(mask, sensor, k);
   };
   if (parts_ == 1) {
     run(0);

@@ -333,6 +333,19 @@ inline RayStop TraceExactRayBlocks(const std::uint64_t* bits, int words, int wid
 
 // The point (map cells) where the ray from `s` to the centre of border cell (target_col,
 // target_row) ended at `stop`.
-Vec2 RayStopPoint(const SensorCell& s, int target_col, int target_row, const RayStop& stop);
+inline Vec2 RayStopPoint(const SensorCell& s, int target_col, int target_row, const RayStop& stop) {
+  const Vec2 sensor(double(s.x) / kFixedOne, double(s.y) / kFixedOne);
+  const Vec2 target(target_col + 0.5, target_row + 0.5);
+  const Vec2 d = target - sensor;
+  switch (stop.kind) {
+    case kRayCrossX:
+    case kRayCorner:
+      return {double(stop.line), sensor.y() + (stop.line - sensor.x()) / d.x() * d.y()};
+    case kRayCrossY:
+      return {sensor.x() + (stop.line - sensor.y()) / d.y() * d.x(), double(stop.line)};
+    default:
+      return target;
+  }
+}
 
 }  // namespace freespace
