@@ -20,11 +20,11 @@
 namespace freespace {
 namespace {
 
-// Bits start .. start + 63 of a bitset row of `words` words, 0 outside it.
-std::uint64_t Bits64(const std::uint64_t* row, int words, int start) {
-  const int w = start >> 6, offset = start & 63;  // start >> 6 floors negative starts too
-  const auto at = [&](int i) { return (i >= 0 && i < words) ? row[i] : std::uint64_t{0}; };
-  return offset == 0 ? at(w) : (at(w) >> offset) | (at(w + 1) << (64 - offset));
+// Bits start .. start + 63 of a bitset row kept from pad[1] on, with a word of zeros on either
+// side: 0 outside the row (start from -64 to the row's last bit).
+std::uint64_t PaddedBits64(const std::uint64_t* pad, int start) {
+  const int w = (start >> 6) + 1, offset = start & 63;  // start >> 6 floors negative starts too
+  return (pad[w] >> offset) | ((pad[w + 1] << (63 - offset)) << 1);
 }
 
 // A bound on the columns of row `row` whose cells' lines of sight from `views` can pass
@@ -110,10 +110,14 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
     }
     if (k > 0) {
       // Room for the widest map; only the row's nw words are used, so only they are cleared.
-      std::uint64_t kill[128], near[128], column[128], any[128];
+      // near and column from word 1 on, a word of zeros on either side (PaddedBits64).
+      std::uint64_t kill[128], near_pad[130], column_pad[130], any[128];
+      std::uint64_t* near = near_pad + 1;
+      std::uint64_t* column = column_pad + 1;
       std::fill_n(kill, nw, std::uint64_t{0});
-      std::fill_n(column, nw, std::uint64_t{0});
+      std::fill_n(column_pad, nw + 2, std::uint64_t{0});
       std::fill_n(any, nw, std::uint64_t{0});
+      near_pad[0] = near_pad[nw + 1] = 0;
       // The cells with a source within k at all, so that the words without are skipped.
       for (int dy = -k; dy <= k; ++dy) {
         const int rr = r + dy;
@@ -124,7 +128,7 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
       }
       bool none = true;
       for (int w = 0; w < nw; ++w) {
-        for (int dx = -k; dx <= k; ++dx) any[w] |= Bits64(column, nw, w * 64 + dx);
+        for (int dx = -k; dx <= k; ++dx) any[w] |= PaddedBits64(column_pad, w * 64 + dx);
         none = none && (out[w] & any[w]) == 0;
       }
       for (int dy = -k; dy <= k && !none; ++dy) {
@@ -137,7 +141,7 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
           for (int w = lo >> 6; w <= hi >> 6; ++w) {
             if ((out[w] & any[w]) == 0) continue;
             std::uint64_t candidates =
-                out[w] & ~kill[w] & Bits64(near, nw, w * 64 + dx) & RangeBits(w, lo, hi);
+                out[w] & ~kill[w] & PaddedBits64(near_pad, w * 64 + dx) & RangeBits(w, lo, hi);
             while (candidates != 0) {
               const int bit = __builtin_ctzll(candidates);
               candidates &= candidates - 1;
