@@ -4,6 +4,7 @@
 // in process and from the written log and truth, which must agree exactly.
 #include "eval/metrics.hpp"
 
+#include <cmath>
 #include <filesystem>
 
 #include "eval/scorer.hpp"
@@ -191,6 +192,49 @@ TEST(Metrics, PolygonIntrusionAndCoverageByHand) {
     EXPECT_DOUBLE_EQ(h.reference_seen_m2, 14.0);
     EXPECT_DOUBLE_EQ(h.coverage_seen, 5.0 / 14.0);
   }
+}
+
+// A scanner's visibility polygon: the scanner at `at`, then its beams' ends 10 m out from
+// bearing `first_deg` on to `last_deg` (counter-clockwise), as the simulator writes it.
+Polygon Fan(Vec2 at, double first_deg, double last_deg) {
+  Polygon p = {at};
+  for (int k = 0; k <= 8; ++k) {
+    const double a = (first_deg + (last_deg - first_deg) * k / 8.0) * M_PI / 180.0;
+    p.push_back(at + 10.0 * Vec2(std::cos(a), std::sin(a)));
+  }
+  return p;
+}
+
+TEST(Metrics, IntrusionOutsideEveryScannersAperture) {
+  // The polygon [0.5, 1.5]^2 holds a quarter of cell (1, 1), which the obstacle covers. A
+  // scanner at (3.5, 1.5) looking east (45 deg either side) has the cell's centre behind it; one
+  // looking west has it ahead; a rig of both has it in view; without any it is undefined.
+  TruthFrame truth;
+  truth.obstacles = {Box(1.25, 1.25, 1.75, 1.75)};
+  HandMap map({"FFFF",  //
+               "FFFF",  //
+               "FFFF",  //
+               "FFFF"});
+  const Polygon polygon = Box(0.5, 0.5, 1.5, 1.5);
+  const Vec2 scanner(3.5, 1.5);
+  truth.visible = Fan(scanner, -45, 45);
+  ScanMetrics m = QualityEvaluator().Evaluate(map.view, polygon, truth);
+  EXPECT_DOUBLE_EQ(m.intrusion_m2, 0.25);
+  EXPECT_DOUBLE_EQ(m.intrusion_out_of_view_m2, 0.25);
+  truth.visible = Fan(scanner, 135, 225);  // across the bearing 180 deg
+  EXPECT_DOUBLE_EQ(QualityEvaluator().Evaluate(map.view, polygon, truth).intrusion_out_of_view_m2,
+                   0.0);
+  truth.visible = Fan(scanner, -45, 45);
+  truth.visible_more = {Fan(scanner, 135, 225)};
+  m = QualityEvaluator().Evaluate(map.view, polygon, truth);
+  EXPECT_DOUBLE_EQ(m.intrusion_m2, 0.25);
+  EXPECT_DOUBLE_EQ(m.intrusion_out_of_view_m2, 0.0);
+  truth.visible.clear();
+  truth.visible_more.clear();
+  m = QualityEvaluator().Evaluate(map.view, polygon, truth);
+  EXPECT_DOUBLE_EQ(m.intrusion_m2, 0.25);
+  EXPECT_TRUE(std::isnan(m.intrusion_out_of_view_m2));
+  EXPECT_TRUE(m.ToJson()["intrusion_out_of_view_m2"].is_null());
 }
 
 TEST(Metrics, TheSeenAreaAccumulatesAndMovesWithTheMap) {

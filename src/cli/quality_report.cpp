@@ -49,10 +49,11 @@ void PrintQuality(std::ostream& out, const nlohmann::json& s) {
   std::snprintf(line, sizeof line,
                 "  polygon intrusion, cells        mean %.4f m2  median %.3f  p95 %.3f  max %.3f   "
                 "aim < 0.03 m2   (moving obstacles' cells: mean %.4f m2; cells the free mask "
-                "calls free: mean %.4f m2)\n",
+                "calls free: mean %.4f m2; outside the scanners' apertures: mean %.4f m2)\n",
                 Get(s, "intrusion_m2", "mean"), Get(s, "intrusion_m2", "median"),
                 Get(s, "intrusion_m2", "p95"), Get(s, "intrusion_m2", "max"),
-                Get(s, "intrusion_moving_m2", "mean"), Get(s, "intrusion_mask_m2", "mean"));
+                Get(s, "intrusion_moving_m2", "mean"), Get(s, "intrusion_mask_m2", "mean"),
+                Get(s, "intrusion_out_of_view_m2", "mean"));
   out << line;
   std::snprintf(line, sizeof line,
                 "  polygon intrusion, geometric    mean %.3f m2  median %.3f  p95 %.3f  max %.3f\n",

@@ -12,10 +12,17 @@ namespace freespace {
 namespace {
 
 // The per-drive values a seed summary reports, each a MetricsSeries summary field's mean.
-constexpr const char* kMetrics[] = {
-    "accuracy",          "false_free_rate",        "intrusion_m2", "intrusion_moving_m2",
-    "intrusion_mask_m2", "intrusion_geometric_m2", "coverage",     "coverage_mask",
-    "coverage_star",     "coverage_seen"};
+constexpr const char* kMetrics[] = {"accuracy",
+                                    "false_free_rate",
+                                    "intrusion_m2",
+                                    "intrusion_moving_m2",
+                                    "intrusion_mask_m2",
+                                    "intrusion_out_of_view_m2",
+                                    "intrusion_geometric_m2",
+                                    "coverage",
+                                    "coverage_mask",
+                                    "coverage_star",
+                                    "coverage_seen"};
 constexpr const char* kStages[] = {"preprocess", "align",   "rasterize", "fuse", "classify",
                                    "mask",       "insight", "polygon",   "total"};
 

@@ -97,6 +97,7 @@ nlohmann::json ScanMetrics::ToJson() const {
           {"intrusion_geometric_m2", intrusion_geometric_m2},
           {"intrusion_moving_m2", intrusion_moving_m2},
           {"intrusion_mask_m2", intrusion_mask_m2},
+          {"intrusion_out_of_view_m2", Number(intrusion_out_of_view_m2)},
           {"reference_free_m2", reference_free_m2},
           {"covered_free_m2", covered_free_m2},
           {"coverage", Number(coverage)},
@@ -236,6 +237,36 @@ bool SeesThroughFree(const MapView& map, const Vec2& from, int row, int col) {
   return true;
 }
 
+// A scanner's aperture as its visibility polygon (map cells) spans it: the polygon's first
+// vertex is the scanner, the next its first beam's end and the last its last beam's end.
+struct Aperture {
+  Vec2 origin;
+  double first = 0.0, span = 0.0;  // radians: the first beam's bearing, and on to the last
+
+  static double Wrap(double a) {  // into [0, 2 pi)
+    a = std::fmod(a, 2.0 * M_PI);
+    return a < 0.0 ? a + 2.0 * M_PI : a;
+  }
+  static double Bearing(const Vec2& from, const Vec2& to) {
+    return std::atan2(to.y() - from.y(), to.x() - from.x());
+  }
+  explicit Aperture(const Polygon& cells)
+      : origin(cells[0]),
+        first(Bearing(cells[0], cells[1])),
+        span(Wrap(Bearing(cells[0], cells.back()) - first)) {}
+  bool Holds(const Vec2& p) const { return Wrap(Bearing(origin, p) - first) <= span; }
+};
+
+// The apertures of the scanners of `truth` (none without a visibility polygon).
+std::vector<Aperture> Apertures(const TruthFrame& truth, const MapView& map) {
+  std::vector<Aperture> out;
+  if (truth.visible.size() >= 3) out.emplace_back(ToCells(truth.visible, map));
+  for (const Polygon& more : truth.visible_more) {
+    if (more.size() >= 3) out.emplace_back(ToCells(more, map));
+  }
+  return out;
+}
+
 }  // namespace
 
 ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec2>& polygon,
@@ -251,6 +282,14 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
   }
 
   ScanMetrics m;
+  const std::vector<Aperture> apertures = Apertures(truth, map);
+  const auto out_of_view = [&](std::size_t i) {
+    const Vec2 at(double(i % std::size_t(map.width)) + 0.5,
+                  double(i / std::size_t(map.width)) + 0.5);
+    return std::none_of(apertures.begin(), apertures.end(),
+                        [&](const Aperture& a) { return a.Holds(at); });
+  };
+  double intrusion_out_of_view = 0.0;
   double intrusion = 0.0, intrusion_moving = 0.0, intrusion_mask = 0.0, reference = 0.0,
          covered = 0.0, reference_seen = 0.0, covered_seen = 0.0, in_mask = 0.0, star = 0.0;
   const bool score_star = score_in_sight && std::isfinite(centre.x()) && std::isfinite(centre.y());
@@ -260,6 +299,7 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
     const bool occupied = covered_[i] > kOccupiedFraction;
     if (occupied) intrusion += polygon_[i];
     if (occupied && map.free[i]) intrusion_mask += polygon_[i];
+    if (occupied && polygon_[i] > 0.0f && out_of_view(i)) intrusion_out_of_view += polygon_[i];
     if (moving_[i]) intrusion_moving += polygon_[i];
     if (l == 0) continue;
     ++m.observed;
@@ -325,6 +365,7 @@ ScanMetrics QualityEvaluator::Evaluate(const MapView& map, const std::vector<Vec
   m.intrusion_m2 = intrusion * cell_area;
   m.intrusion_moving_m2 = intrusion_moving * cell_area;
   m.intrusion_mask_m2 = intrusion_mask * cell_area;
+  m.intrusion_out_of_view_m2 = apertures.empty() ? kNaN : intrusion_out_of_view * cell_area;
   m.reference_free_m2 = reference * cell_area;
   m.covered_free_m2 = covered * cell_area;
   m.coverage = score_in_sight ? Ratio(covered, reference) : kNaN;
@@ -414,6 +455,8 @@ nlohmann::json MetricsSeries::Summary() const {
        stats([](const ScanMetrics& m) { return m.intrusion_geometric_m2; })},
       {"intrusion_moving_m2", stats([](const ScanMetrics& m) { return m.intrusion_moving_m2; })},
       {"intrusion_mask_m2", stats([](const ScanMetrics& m) { return m.intrusion_mask_m2; })},
+      {"intrusion_out_of_view_m2",
+       stats([](const ScanMetrics& m) { return m.intrusion_out_of_view_m2; })},
       {"coverage", coverage},
       {"coverage_mask", coverage_mask},
       {"coverage_star", coverage_star},

@@ -18,7 +18,9 @@ namespace freespace {
 struct TruthFrame {
   std::vector<geometry::Polygon> obstacles;  // convex, counter-clockwise, at the scan's time
   std::vector<bool> moving;                  // per obstacle: it moves (empty: none moves)
-  geometry::Polygon visible;  // the scanner's true visibility polygon of this scan (its aperture)
+  // The scanner's true visibility polygon of this scan: the scanner, then each beam's end from
+  // the first beam to the last (its aperture).
+  geometry::Polygon visible;
   std::vector<geometry::Polygon> visible_more;  // a rig's other scanners' visibility polygons
   geometry::Polygon in_sight;  // the true visibility all around the sensor now (empty: coverage
                                // is not scored)
@@ -50,6 +52,10 @@ struct ScanMetrics {
   double intrusion_moving_m2 = 0.0;     // of intrusion_m2, on cells a moving obstacle covers
   double intrusion_mask_m2 = 0.0;  // of intrusion_m2, on cells the engine's free mask calls free
                                    // (map errors; the rest is the polygon's own)
+  // Of intrusion_m2, on cells outside every scanner's aperture now (the bearing of the cell's
+  // centre from the scanner lies outside its first to last beam): where the map's memory, not
+  // this scan, bounds the polygon. NaN when the truth holds no scanner's visibility polygon.
+  double intrusion_out_of_view_m2 = 0.0;
   // Coverage (docs/metrics.md): the reference is the truly free, observed cells in sight of
   // the sensor now (TruthFrame::in_sight); NaN when in_sight is empty.
   double reference_free_m2 = 0.0;     // truly free cells, observed, in sight now
