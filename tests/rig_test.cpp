@@ -69,6 +69,12 @@ TEST(RigConfig, ASingleSensorConfigIsNoRig) {
 }
 
 TEST(RigConfig, ErrorsNameTheSensorAndTheField) {
+  // The heading correction matches one scanner's scans: a rig's cycle is refused, not ignored.
+  const std::string matched =
+      ConfigError("alignment:\n  scan_match: true\nsensors:\n  - name: a\n  - name: b\n");
+  EXPECT_NE(matched.find("alignment.scan_match"), std::string::npos) << matched;
+  EXPECT_NE(matched.find("one sensor"), std::string::npos) << matched;
+  EXPECT_EQ(Config::FromYaml("alignment:\n  scan_match: true\n").alignment.scan_match, true);
   EXPECT_NE(ConfigError("sensor:\n  layers: 2\nsensors:\n  - name: a\n").find("not both"),
             std::string::npos);
   EXPECT_NE(ConfigError("sensors:\n  - name: a\n  - name: a\n").find("sensors[a].name"),

@@ -82,6 +82,12 @@ struct AlignmentConfig {
   int reset_after_jumps = 5;    // consecutive jumps after which the map restarts there; >= 1
   double time_jitter_s = 1.0;   // a timestamp up to this much before the previous one is clock
                                 // jitter: the scan is used without a speed sample; >= 0
+  // Heading correction (not in the paper): each scan's heading is corrected by matching its
+  // echoes to the occupied cells the map holds, and the correction carried to the next scan's
+  // odometry pose, so that a drifting yaw (a gyro's yaw-rate bias) does not smear the map. The
+  // result stays in the input poses' frame; the map is kept in the corrected one
+  // (Result::pose_correction). Needs kind circle and one sensor.
+  bool scan_match = false;
 };
 
 // Normalisation, neighbourhood hysteresis and morphological opening (paper IV.A).

@@ -81,6 +81,14 @@ struct Result {
                                   // the sensor's motion during its sweep (not the first scan
                                   // of a map, nor one more than 0.5 s after its sensor's last)
 
+  // alignment.scan_match: the map is kept in the input poses' frame corrected by this pose (a
+  // point p of the input frame lies at pose_correction composed with p in the map's frame), as
+  // of the end of this scan; identity when off. The world positions below (sensor_pose, origin,
+  // map_yaw) and the polygon are in the input poses' frame either way, so map_yaw is the
+  // correction's rotation, not 0, when it is on.
+  Pose2D pose_correction;
+  bool pose_matched = false;  // this scan's echoes corrected the heading (alignment.scan_match)
+
   Pose2D pose;           // the vehicle pose given with the scan (a rig: the newest scan's)
   Pose2D sensor_pose;    // the sensor's world pose (pose composed with the mount); with a rig,
                          // the reference point's (rig.reference_*), which stands for the sensor
@@ -88,7 +96,8 @@ struct Result {
   Vec2 vehicle_cells;    // sensor position in the map, cells, fractional (eqs. 6, 7)
   double yaw = 0.0;      // sensor yaw in the map (eq. 2), radians
   double map_yaw = 0.0;  // rotation of the map's axes from the world's: 0 with the circle
-                         // alignment, the sensor's yaw with alignment.kind rotate
+                         // alignment (the correction's with alignment.scan_match), the
+                         // sensor's yaw with alignment.kind rotate
   CellIndex vehicle_cell;
   Vec2 origin;                     // world position (m) of the corner of cell (0, 0)
   std::int64_t origin_cell_x = 0;  // origin in whole cells from the map's anchor

@@ -119,6 +119,12 @@ void BindScanAndResult(py::module_& m) {
           "sweep_corrected", [](const PyResult& p) { return p.r.sweep_corrected; },
           "every scan placed from the sensor's motion during its sweep (sensor.sweep_s)")
       .def_property_readonly("pose", [](const PyResult& p) { return PoseTuple(p.r.pose); })
+      .def_property_readonly(
+          "pose_correction", [](const PyResult& p) { return PoseTuple(p.r.pose_correction); },
+          "alignment.scan_match: (x, y, yaw) from the input poses' frame to the map's")
+      .def_property_readonly(
+          "pose_matched", [](const PyResult& p) { return p.r.pose_matched; },
+          "this scan's echoes corrected the heading (alignment.scan_match)")
       .def_property_readonly("sensor_pose",
                              [](const PyResult& p) { return PoseTuple(p.r.sensor_pose); })
       .def_property_readonly(

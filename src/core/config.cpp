@@ -87,6 +87,13 @@ const Relation kRelations[] = {
        return c.alignment.margin_m / c.map.resolution_m + 1 <= HalfSmallerSideCells(c);
      },
      [](const Config& c) { return " (" + Format(HalfSmallerSideCells(c)) + " cells)"; }},
+    {"alignment.scan_match",
+     "needs alignment.kind circle and one sensor (a rig's cycle is not matched)",
+     [](const Config& c) {
+       return !c.alignment.scan_match ||
+              (c.alignment.kind == AlignmentKind::kCircle && !c.is_rig());
+     },
+     nullptr},
     {"classify.t_high", "must be >= classify.t_low",
      [](const Config& c) { return c.classify.t_high >= c.classify.t_low; }, nullptr},
     {"classify.vehicle_width_m", "must be at most 255 cells of map.resolution_m",
@@ -287,6 +294,10 @@ std::string RigSensorText(std::string text, const std::string& label) {
 // Each sensor of a rig as the single sensor would be checked, messages naming it; names
 // distinct and not empty.
 void ValidateRig(const Config& c) {
+  if (c.alignment.scan_match) {
+    throw ConfigError(
+        "config: alignment.scan_match = true: needs one sensor (a rig's cycle is not matched)");
+  }
   if (c.sensors.size() > std::size_t(kMaxSensors)) {
     throw ConfigError("config: sensors has " + std::to_string(c.sensors.size()) +
                       " sensors: at most " + std::to_string(kMaxSensors));

@@ -174,6 +174,8 @@ void VisitAlignment(C& a, Visitor& v) {
     {"scans", AtLeast(1), "jumps in a row after which the map restarts at the new pose"});
   v("time_jitter_s", a.time_jitter_s,
     {"s", AtLeast(0), "a timestamp this much before the last is jitter: no speed sample"});
+  v("scan_match", a.scan_match,
+    {"", {}, "correct the odometry's heading by matching each scan to the map (not in the paper)"});
 }
 
 template <class C, class Visitor>

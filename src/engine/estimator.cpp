@@ -40,7 +40,10 @@ double MapView::Probability(int row, int col) const {
 }
 
 Estimator::Impl::Impl(const Config& config)
-    : config_(Validated(config)), circle_(config_), movers_(MoverRule::Of(config_)) {
+    : config_(Validated(config)),
+      circle_(config_),
+      movers_(MoverRule::Of(config_)),
+      matcher_(MakeMatcher(config_)) {
   backend_ = CreateBackend(config_);
   preprocess_ = std::make_unique<Preprocessor>(config_);
   const Backend::CrewRequest crew = backend_->WantedCrew();
@@ -67,6 +70,8 @@ void Estimator::Impl::Reset() {
   sweep_.Forget();
   for (RigSensor& unit : rig_) unit.sweep.Forget();
   movers_.Clear();
+  correction_ = Pose2D{};
+  map_has_scans_ = false;
 }
 
 // sensor.sweep_s: the sensor's motion since its last accepted scan (core/sweep.hpp). Call after
@@ -105,6 +110,8 @@ void Estimator::Impl::Begin(const Scan& scan) {
   r.stall_detected = false;
   r.sweep_corrected = false;
   r.pose = scan.pose;
+  r.pose_correction = correction_;
+  r.pose_matched = false;
   r.times = StageTimes{};
   r.stats = ScanStats{};
   cycle_scanners_.clear();
@@ -345,7 +352,7 @@ const Result& Estimator::Impl::Process(const Scan& scan) {
     return r;
   };
   if (!CheckInput(scan)) return finish();
-  r.sensor_pose = SensorPose(scan.pose, config_.sensor);
+  r.sensor_pose = SensorPose(Corrected(scan.pose), config_.sensor);
   r.cycle_sensors.push_back(0);
   r.cycle_sensor_poses.push_back(r.sensor_pose);
 
@@ -358,14 +365,18 @@ const Result& Estimator::Impl::Process(const Scan& scan) {
   r.times.align_us = Micros(t_pre, t_align);
   r.sweep_corrected =
       Sweep(preprocess_.get(), &sweep_, config_.sensor, r.sensor_pose, scan.timestamp_s);
+  MatchPose(has_update);
+  r.cycle_sensor_poses.back() = r.sensor_pose;
 
   UpdateMap(has_update, scan);
+  map_has_scans_ = map_has_scans_ || has_update;
   return Conclude(t_begin);
 }
 
 const Result& Estimator::Impl::Conclude(Clock::time_point t_begin) {
   Result& r = result_;
   ClassifyAndScan();
+  ToInputFrame();
   const Clock::time_point t_polygon = Clock::now();
   ExtractPolygon();
   const Clock::time_point t_end = Clock::now();
@@ -386,6 +397,14 @@ const Result& Estimator::Impl::Conclude(Clock::time_point t_begin) {
   return r;
 }
 
+const LogOdds* Estimator::Impl::LogOddsNow() const {
+  const LogOdds* host = backend_->HostLogOdds();
+  if (host != nullptr) return host;
+  map_mirror_.resize(std::size_t(config_.map.width_cells) * config_.map.height_cells);
+  backend_->ReadLogOdds(map_mirror_.data());
+  return map_mirror_.data();
+}
+
 MapView Estimator::Impl::map() const {
   MapView v;
   v.width = config_.map.width_cells;
@@ -394,12 +413,7 @@ MapView Estimator::Impl::map() const {
   v.origin = result_.origin;
   v.map_yaw = result_.map_yaw;
   const std::size_t cells = std::size_t(v.width) * v.height;
-  v.log_odds = backend_->HostLogOdds();
-  if (v.log_odds == nullptr) {
-    map_mirror_.resize(cells);
-    backend_->ReadLogOdds(map_mirror_.data());
-    v.log_odds = map_mirror_.data();
-  }
+  v.log_odds = LogOddsNow();
   v.free = backend_->HostFree();
   if (v.free == nullptr) {
     free_mirror_.resize(cells);

@@ -13,6 +13,7 @@
 #include "core/crew.hpp"
 #include "core/movers.hpp"
 #include "core/preprocess.hpp"
+#include "core/scan_match.hpp"
 #include "core/sweep.hpp"
 #include "core/thread_arena.hpp"
 #include "engine/map_aligner.hpp"
@@ -40,6 +41,8 @@ class Estimator::Impl {
   const Result& ProcessCycle(const Scan* scans, int count);
   void Reset();
   MapView map() const;
+  // The map's log-odds: the backend's own on the host, or read back into map_mirror_.
+  const LogOdds* LogOddsNow() const;
 
   const Config& config() const { return config_; }
   const Backend& backend() const { return *backend_; }
@@ -49,6 +52,15 @@ class Estimator::Impl {
   void Begin(const Scan& scan);
   bool CheckInput(const Scan& scan);
   bool Align(const Scan& scan);
+  // alignment.scan_match (pose_correction.cpp): the odometry pose in the corrected frame, and
+  // after Align() this scan's correction from the map (before the map's update).
+  static ScanMatcher MakeMatcher(const Config& config);
+  Pose2D Corrected(const Pose2D& odometry) const;
+  void MatchPose(bool has_update);
+  void Turn(double angle);
+  // The result's world positions (origin, map_yaw, sensor poses; the polygon after it) from the
+  // corrected frame the map is kept in to the frame of the input poses.
+  void ToInputFrame();
   void UpdateMap(bool has_update, const Scan& scan);
   // Whether the side work of a map update (the mover layer's detection, the face layer) runs
   // beside the update: with backend.threads 0, unless the kernels run on the host's cores on
@@ -122,6 +134,10 @@ class Estimator::Impl {
   double faces_t_ = 0.0;              // the time of the scan whose face layer SetFaceLayer() sets
   std::vector<Vec2> cycle_scanners_;  // map cells of the cycle's scanners with an update
   std::int32_t footprint_[8] = {};    // the footprint's corners, fixed point
+  ScanMatcher matcher_;               // alignment.scan_match
+  Pose2D correction_;                 // of the odometry's frame (Result::pose_correction)
+  std::vector<MatchPoint> match_points_;
+  bool map_has_scans_ = false;  // a scan updated the map since it was last cleared
   mutable std::vector<LogOdds> map_mirror_;
   mutable std::vector<std::uint8_t> free_mirror_;
 };

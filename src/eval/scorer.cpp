@@ -27,7 +27,14 @@ const TruthScan& TruthScorer::At(std::size_t index, double t) const {
 
 ScanMetrics TruthScorer::Score(std::size_t index, const MapView& map, const Result& result) {
   const TruthScan& s = At(index, result.timestamp_s);
-  const Pose2D to_map = TruthToMapFrame(s);
+  // The scoring runs in the frame the map is kept in, whose axes are the cells': the input
+  // poses' frame corrected as the engine corrected it (alignment.scan_match; else the same).
+  const Pose2D& correction = result.pose_correction;
+  const Pose2D to_map = Compose(correction, TruthToMapFrame(s));
+  MapView kept = map;
+  const Pose2D placed = Compose(correction, Pose2D{map.origin.x(), map.origin.y(), map.map_yaw});
+  kept.origin = Vec2(placed.x, placed.y);
+  kept.map_yaw = placed.yaw;
   frame_.obstacles = truth_.world.Place(s.movers);
   frame_.moving.resize(frame_.obstacles.size());
   for (std::size_t i = 0; i < frame_.obstacles.size(); ++i) {
@@ -55,7 +62,8 @@ ScanMetrics TruthScorer::Score(std::size_t index, const MapView& map, const Resu
   const double reach = std::hypot(map.width, map.height) * map.resolution_m;
   frame_.in_sight = Transform(to_map, SurroundingVisibility(caster_, Vec2(s.sensor.x, s.sensor.y),
                                                             truth_.scanner.resolution_deg, reach));
-  ScanMetrics m = evaluator_.Evaluate(map, result.polygon, frame_, result.vehicle_cells);
+  ScanMetrics m = evaluator_.Evaluate(kept, Transform(correction, result.polygon), frame_,
+                                      result.vehicle_cells);
   m.scan = s.index;
   m.t = s.t;
   return m;

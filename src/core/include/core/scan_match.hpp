@@ -1,0 +1,69 @@
+// Heading correction from the scans (not in the paper): the small rotation of the odometry's
+// sensor pose about the sensor that lays this scan's echoes onto the occupied cells the map
+// already holds, so that a drifting heading (a gyro's yaw-rate bias, which does most of an
+// odometry's harm to the map) does not smear the map and move its remembered free space onto
+// what the car passed. Gauss-Newton on the map's settled occupied evidence, bilinearly
+// interpolated. Runs on the host on the map both backends hold bit-identical, so the correction
+// and everything after it stay identical too. The position is left to the odometry: matched on
+// these one-cell-thick occupied faces it wanders more than a 0.5 % distance error does.
+#pragma once
+
+#include <vector>
+
+#include "freespace/types.hpp"
+
+namespace freespace {
+
+// The map the scan is matched against: log-odds, row-major, in the frame of Result::origin and
+// Result::map_yaw (cell (row, col) covers [col, col + 1) x [row, row + 1) cells from origin).
+struct MatchMap {
+  const LogOdds* log_odds = nullptr;
+  int width = 0;
+  int height = 0;
+  double resolution_m = 0.0;
+  Vec2 origin;
+  double map_yaw = 0.0;
+  LogOdds l_max = 0;  // the map's upper clamp: a cell at l_max is certainly occupied
+};
+
+// One echo in the sensor frame, metres.
+struct MatchPoint {
+  float x = 0.0f;
+  float y = 0.0f;
+};
+
+struct MatchResult {
+  bool applied = false;      // false: too few echoes near settled occupied cells, or no better fit
+  int points = 0;            // echoes that took part at the given pose
+  double dyaw = 0.0;         // the rotation of the sensor pose about its position, radians
+  double cost_before = 0.0;  // mean squared misfit (0: every echo on a certain-occupied cell)
+  double cost_after = 0.0;
+};
+
+class ScanMatcher {
+ public:
+  // A correction is bounded by max_step_rad.
+  explicit ScanMatcher(double max_step_rad);
+
+  // The rotation of `sensor` (world) that best lays `points` onto the map's occupied cells.
+  MatchResult Match(const MatchMap& map, const std::vector<MatchPoint>& points,
+                    const Pose2D& sensor) const;
+
+  // Fewest echoes near settled occupied cells a correction is taken from.
+  static constexpr int kMinPoints = 30;
+  static constexpr int kIterations = 2;
+
+ private:
+  struct Sums {
+    double h = 0.0;  // sum of J^2
+    double g = 0.0;  // sum of J * residual
+    int points = 0;
+  };
+  // Mean misfit of the points at the sensor pose `at`, and (with sums) the normal equation.
+  double Evaluate(const MatchMap& map, const std::vector<MatchPoint>& points, const Pose2D& at,
+                  Sums* sums) const;
+
+  double max_step_rad_;
+};
+
+}  // namespace freespace

@@ -1,0 +1,99 @@
+// alignment.scan_match: the odometry's heading corrected by matching each scan to the map
+// (core/scan_match.hpp; docs/design.md, "Heading correction").
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "estimator_impl.hpp"
+
+namespace freespace {
+namespace {
+
+// The largest rotation one match finds: 0.2 degrees. With kGain the correction follows a
+// yaw-rate bias of up to 0.15 deg/s at 25 scans a second.
+constexpr double kMaxStepRad = 0.2 * M_PI / 180.0;
+// The share of a match's rotation a scan takes: at 25 scans a second the correction follows a
+// drifting heading over about 1.3 s, and one scan's error of fit turns the pose 3 % as much (a
+// larger share lets the map's own errors of fit walk the heading; docs/design.md).
+constexpr double kGain = 0.03;
+// The most echoes a match takes: every k-th kept echo, k as small as keeps to this.
+constexpr std::size_t kMaxPoints = 512;
+
+Pose2D Compose(const Pose2D& a, const Pose2D& b) {
+  const double c = std::cos(a.yaw), s = std::sin(a.yaw);
+  return {a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y, WrapAngle(a.yaw + b.yaw)};
+}
+
+Pose2D Inverse(const Pose2D& a) {
+  const double c = std::cos(a.yaw), s = std::sin(a.yaw);
+  return {-(c * a.x + s * a.y), s * a.x - c * a.y, WrapAngle(-a.yaw)};
+}
+
+// The rotation by `angle` about the point `centre` (world).
+Pose2D RotationAbout(const Vec2& centre, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {centre.x() - (c * centre.x() - s * centre.y()),
+          centre.y() - (s * centre.x() + c * centre.y()), angle};
+}
+
+}  // namespace
+
+ScanMatcher Estimator::Impl::MakeMatcher(const Config& /*config*/) {
+  return ScanMatcher(kMaxStepRad);
+}
+
+Pose2D Estimator::Impl::Corrected(const Pose2D& odometry) const {
+  return config_.alignment.scan_match ? Compose(correction_, odometry) : odometry;
+}
+
+// After Align() and Sweep(), before the map's update: the scan's kept echoes (deskewed) matched
+// against the map of the scans before it, in its aligned frame; the sensor's yaw in the world
+// and in the map turned by a share of the match, and the correction kept for the next scan.
+void Estimator::Impl::MatchPose(bool has_update) {
+  Result& r = result_;
+  if (!config_.alignment.scan_match || !has_update || r.map_reset || !map_has_scans_) return;
+  const auto start = std::chrono::steady_clock::now();
+  match_points_.clear();
+  const std::vector<EchoPoint>& kept = preprocess_->kept();
+  const std::size_t stride = (kept.size() + kMaxPoints - 1) / kMaxPoints;
+  for (std::size_t i = 0; i < kept.size(); i += std::max<std::size_t>(stride, 1)) {
+    match_points_.push_back({kept[i].x, kept[i].y});
+  }
+  MatchMap map;
+  map.width = config_.map.width_cells;
+  map.height = config_.map.height_cells;
+  map.resolution_m = config_.map.resolution_m;
+  map.origin = r.origin;
+  map.map_yaw = r.map_yaw;
+  map.l_max = LogOddsFromProbability(config_.sensor_model.p_max);
+  map.log_odds = LogOddsNow();
+  const MatchResult m = matcher_.Match(map, match_points_, r.sensor_pose);
+  if (m.applied) Turn(kGain * m.dyaw);
+  r.pose_matched = m.applied;
+  r.pose_correction = correction_;
+  r.times.align_us +=
+      std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+}
+
+void Estimator::Impl::ToInputFrame() {
+  if (!config_.alignment.scan_match) return;
+  Result& r = result_;
+  const Pose2D back = Inverse(correction_);
+  const Pose2D map = Compose(back, Pose2D{r.origin.x(), r.origin.y(), r.map_yaw});
+  r.origin = Vec2(map.x, map.y);
+  r.map_yaw = map.yaw;
+  r.sensor_pose = Compose(back, r.sensor_pose);
+  for (Pose2D& p : r.cycle_sensor_poses) p = Compose(back, p);
+}
+
+// The sensor's heading, in the world and in the map, and the correction turned by `angle` about
+// the sensor's position.
+void Estimator::Impl::Turn(double angle) {
+  if (angle == 0.0) return;
+  Result& r = result_;
+  correction_ = Compose(RotationAbout(Vec2(r.sensor_pose.x, r.sensor_pose.y), angle), correction_);
+  r.sensor_pose.yaw = WrapAngle(r.sensor_pose.yaw + angle);
+  r.yaw = WrapAngle(r.yaw + angle);
+}
+
+}  // namespace freespace
