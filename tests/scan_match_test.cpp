@@ -34,19 +34,18 @@ struct WallMap {
       cells[int(p.y() / kRes) * kSide + int(p.x() / kRes)] = kMax;
     }
   }
-  MatchMap View() const {
-    MatchMap m;
+  MapView View() const {
+    MapView m;
     m.log_odds = cells.data();
     m.width = m.height = kSide;
     m.resolution_m = kRes;
-    m.l_max = kMax;
     return m;
   }
 };
 
 // Points on the walls' cell centres' lines, in the frame of `sensor`.
-std::vector<MatchPoint> Seen(const std::vector<Vec2>& world, const Pose2D& sensor) {
-  std::vector<MatchPoint> out;
+std::vector<EchoPoint> Seen(const std::vector<Vec2>& world, const Pose2D& sensor) {
+  std::vector<EchoPoint> out;
   const double c = std::cos(sensor.yaw), s = std::sin(sensor.yaw);
   for (const Vec2& w : world) {
     const double dx = w.x() - sensor.x, dy = w.y() - sensor.y;
@@ -76,8 +75,8 @@ TEST(ScanMatch, TurnsAnOffsetHeadingBackOntoTheWalls) {
   WallMap map;
   const std::vector<Vec2> walls = Room(&map);
   const Pose2D truth{20.0, 18.0, 0.3};
-  const std::vector<MatchPoint> points = Seen(walls, truth);
-  const ScanMatcher matcher(0.2 * M_PI / 180);
+  const std::vector<EchoPoint> points = Seen(walls, truth);
+  const ScanMatcher matcher(0.2 * M_PI / 180, kMax);
   for (const double off : {0.002, -0.002}) {
     const Pose2D at{truth.x, truth.y, truth.yaw + off};
     const MatchResult m = matcher.Match(map.View(), points, at);
@@ -92,7 +91,7 @@ TEST(ScanMatch, ARotationIsBoundedPerScan) {
   WallMap map;
   const std::vector<Vec2> walls = Room(&map);
   const Pose2D truth{20.0, 18.0, 0.0};
-  const ScanMatcher matcher(0.001);
+  const ScanMatcher matcher(0.001, kMax);
   const Pose2D at{truth.x, truth.y, truth.yaw - 0.004};
   const MatchResult m = matcher.Match(map.View(), Seen(walls, truth), at);
   ASSERT_TRUE(m.applied);
@@ -105,7 +104,7 @@ TEST(ScanMatch, EchoesInFreeSpaceAreNotMatched) {
   std::vector<Vec2> inside;  // a vehicle in the room's free middle
   for (double t = 15; t < 25; t += 0.2) inside.push_back({t, 25.0});
   const Pose2D sensor{20.0, 18.0, 0.0};
-  const ScanMatcher matcher(0.2 * M_PI / 180);
+  const ScanMatcher matcher(0.2 * M_PI / 180, kMax);
   const MatchResult m = matcher.Match(map.View(), Seen(inside, sensor), {20.0, 18.0, 0.002});
   EXPECT_FALSE(m.applied);
   EXPECT_EQ(m.points, 0);
@@ -120,7 +119,7 @@ TEST(ScanMatch, YoungOccupiedEvidenceIsNotMatched) {
     if (l > 0) l = LogOdds(kMax * 4 / 10);
   }
   const Pose2D truth{20.0, 18.0, 0.0};
-  const ScanMatcher matcher(0.2 * M_PI / 180);
+  const ScanMatcher matcher(0.2 * M_PI / 180, kMax);
   const MatchResult m =
       matcher.Match(map.View(), Seen(walls, truth), {truth.x, truth.y, truth.yaw + 0.002});
   EXPECT_FALSE(m.applied);

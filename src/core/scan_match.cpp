@@ -19,12 +19,13 @@ constexpr double kSettledShare = 0.5;
 
 }  // namespace
 
-ScanMatcher::ScanMatcher(double max_step_rad) : max_step_rad_(max_step_rad) {}
+ScanMatcher::ScanMatcher(double max_step_rad, LogOdds l_max)
+    : max_step_rad_(max_step_rad), l_max_(l_max) {}
 
-double ScanMatcher::Evaluate(const MatchMap& map, const std::vector<MatchPoint>& points,
+double ScanMatcher::Evaluate(const MapView& map, const std::vector<EchoPoint>& echoes,
                              const Pose2D& at, Sums* sums) const {
   const double inv_res = 1.0 / map.resolution_m;
-  const double lc = std::max<int>(map.l_max, 1), l0 = lc * kSettledShare;
+  const double lc = std::max<int>(l_max_, 1), l0 = lc * kSettledShare;
   // Settled occupied evidence only: free and unknown cells both count 0 (unknown at one half
   // would make the cells behind a face, never seen, pull every echo away from the sensor).
   const auto value = [&](LogOdds l) { return std::clamp<double>(l - l0, 0, lc - l0) / (lc - l0); };
@@ -33,7 +34,10 @@ double ScanMatcher::Evaluate(const MatchMap& map, const std::vector<MatchPoint>&
   const double c = std::cos(at.yaw), s = std::sin(at.yaw);
   double cost = 0.0;
   int used = 0;
-  for (const MatchPoint& p : points) {
+  const std::size_t stride =
+      std::max<std::size_t>(1, (echoes.size() + kMaxPoints - 1) / kMaxPoints);
+  for (std::size_t i = 0; i < echoes.size(); i += stride) {
+    const EchoPoint& p = echoes[i];
     const double qx = c * p.x - s * p.y, qy = s * p.x + c * p.y;  // world, from the sensor
     const double wx = at.x + qx - map.origin.x(), wy = at.y + qy - map.origin.y();
     const double cx = (mc * wx + ms * wy) * inv_res - 0.5;
@@ -65,7 +69,7 @@ double ScanMatcher::Evaluate(const MatchMap& map, const std::vector<MatchPoint>&
   return used > 0 ? cost / used : 0.0;
 }
 
-MatchResult ScanMatcher::Match(const MatchMap& map, const std::vector<MatchPoint>& points,
+MatchResult ScanMatcher::Match(const MapView& map, const std::vector<EchoPoint>& echoes,
                                const Pose2D& sensor) const {
   MatchResult out;
   if (map.log_odds == nullptr || !(map.resolution_m > 0)) return out;
@@ -74,7 +78,7 @@ MatchResult ScanMatcher::Match(const MatchMap& map, const std::vector<MatchPoint
       kPriorShare * kPriorArmM * kPriorArmM / (map.resolution_m * map.resolution_m);
   for (int it = 0; it < kIterations; ++it) {
     Sums sums;
-    const double cost = Evaluate(map, points, at, &sums);
+    const double cost = Evaluate(map, echoes, at, &sums);
     if (it == 0) {
       out.cost_before = cost;
       out.points = sums.points;
@@ -85,7 +89,7 @@ MatchResult ScanMatcher::Match(const MatchMap& map, const std::vector<MatchPoint
     at.yaw = std::clamp(at.yaw + step, sensor.yaw - max_step_rad_, sensor.yaw + max_step_rad_);
   }
   Sums final_sums;
-  out.cost_after = Evaluate(map, points, at, &final_sums);
+  out.cost_after = Evaluate(map, echoes, at, &final_sums);
   if (final_sums.points < kMinPoints || !(out.cost_after < out.cost_before)) return out;
   out.applied = true;
   out.dyaw = at.yaw - sensor.yaw;

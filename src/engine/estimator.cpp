@@ -397,23 +397,25 @@ const Result& Estimator::Impl::Conclude(Clock::time_point t_begin) {
   return r;
 }
 
-const LogOdds* Estimator::Impl::LogOddsNow() const {
-  const LogOdds* host = backend_->HostLogOdds();
-  if (host != nullptr) return host;
-  map_mirror_.resize(std::size_t(config_.map.width_cells) * config_.map.height_cells);
-  backend_->ReadLogOdds(map_mirror_.data());
-  return map_mirror_.data();
-}
-
-MapView Estimator::Impl::map() const {
+MapView Estimator::Impl::LogOddsView() const {
   MapView v;
   v.width = config_.map.width_cells;
   v.height = config_.map.height_cells;
   v.resolution_m = config_.map.resolution_m;
   v.origin = result_.origin;
   v.map_yaw = result_.map_yaw;
+  v.log_odds = backend_->HostLogOdds();
+  if (v.log_odds == nullptr) {
+    map_mirror_.resize(std::size_t(v.width) * v.height);
+    backend_->ReadLogOdds(map_mirror_.data());
+    v.log_odds = map_mirror_.data();
+  }
+  return v;
+}
+
+MapView Estimator::Impl::map() const {
+  MapView v = LogOddsView();
   const std::size_t cells = std::size_t(v.width) * v.height;
-  v.log_odds = LogOddsNow();
   v.free = backend_->HostFree();
   if (v.free == nullptr) {
     free_mirror_.resize(cells);

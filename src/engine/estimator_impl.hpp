@@ -41,8 +41,9 @@ class Estimator::Impl {
   const Result& ProcessCycle(const Scan* scans, int count);
   void Reset();
   MapView map() const;
-  // The map's log-odds: the backend's own on the host, or read back into map_mirror_.
-  const LogOdds* LogOddsNow() const;
+  // The map's frame and log-odds (the backend's own on the host, or read back into
+  // map_mirror_), without the free mask.
+  MapView LogOddsView() const;
 
   const Config& config() const { return config_; }
   const Backend& backend() const { return *backend_; }
@@ -136,8 +137,7 @@ class Estimator::Impl {
   std::int32_t footprint_[8] = {};    // the footprint's corners, fixed point
   ScanMatcher matcher_;               // alignment.scan_match
   Pose2D correction_;                 // of the odometry's frame (Result::pose_correction)
-  std::vector<MatchPoint> match_points_;
-  bool map_has_scans_ = false;  // a scan updated the map since it was last cleared
+  bool map_has_scans_ = false;        // a scan updated the map since it was last cleared
   mutable std::vector<LogOdds> map_mirror_;
   mutable std::vector<std::uint8_t> free_mirror_;
 };

@@ -16,8 +16,6 @@ constexpr double kMaxStepRad = 0.2 * M_PI / 180.0;
 // drifting heading over about 1.3 s, and one scan's error of fit turns the pose 3 % as much (a
 // larger share lets the map's own errors of fit walk the heading; docs/design.md).
 constexpr double kGain = 0.03;
-// The most echoes a match takes: every k-th kept echo, k as small as keeps to this.
-constexpr std::size_t kMaxPoints = 512;
 
 Pose2D Compose(const Pose2D& a, const Pose2D& b) {
   const double c = std::cos(a.yaw), s = std::sin(a.yaw);
@@ -38,8 +36,8 @@ Pose2D RotationAbout(const Vec2& centre, double angle) {
 
 }  // namespace
 
-ScanMatcher Estimator::Impl::MakeMatcher(const Config& /*config*/) {
-  return ScanMatcher(kMaxStepRad);
+ScanMatcher Estimator::Impl::MakeMatcher(const Config& config) {
+  return ScanMatcher(kMaxStepRad, LogOddsFromProbability(config.sensor_model.p_max));
 }
 
 Pose2D Estimator::Impl::Corrected(const Pose2D& odometry) const {
@@ -53,21 +51,7 @@ void Estimator::Impl::MatchPose(bool has_update) {
   Result& r = result_;
   if (!config_.alignment.scan_match || !has_update || r.map_reset || !map_has_scans_) return;
   const auto start = std::chrono::steady_clock::now();
-  match_points_.clear();
-  const std::vector<EchoPoint>& kept = preprocess_->kept();
-  const std::size_t stride = (kept.size() + kMaxPoints - 1) / kMaxPoints;
-  for (std::size_t i = 0; i < kept.size(); i += std::max<std::size_t>(stride, 1)) {
-    match_points_.push_back({kept[i].x, kept[i].y});
-  }
-  MatchMap map;
-  map.width = config_.map.width_cells;
-  map.height = config_.map.height_cells;
-  map.resolution_m = config_.map.resolution_m;
-  map.origin = r.origin;
-  map.map_yaw = r.map_yaw;
-  map.l_max = LogOddsFromProbability(config_.sensor_model.p_max);
-  map.log_odds = LogOddsNow();
-  const MatchResult m = matcher_.Match(map, match_points_, r.sensor_pose);
+  const MatchResult m = matcher_.Match(LogOddsView(), preprocess_->kept(), r.sensor_pose);
   if (m.applied) Turn(kGain * m.dyaw);
   r.pose_matched = m.applied;
   r.pose_correction = correction_;

@@ -8,29 +8,14 @@
 // these one-cell-thick occupied faces it wanders more than a 0.5 % distance error does.
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
+#include "core/dbscan.hpp"
+#include "freespace/result.hpp"
 #include "freespace/types.hpp"
 
 namespace freespace {
-
-// The map the scan is matched against: log-odds, row-major, in the frame of Result::origin and
-// Result::map_yaw (cell (row, col) covers [col, col + 1) x [row, row + 1) cells from origin).
-struct MatchMap {
-  const LogOdds* log_odds = nullptr;
-  int width = 0;
-  int height = 0;
-  double resolution_m = 0.0;
-  Vec2 origin;
-  double map_yaw = 0.0;
-  LogOdds l_max = 0;  // the map's upper clamp: a cell at l_max is certainly occupied
-};
-
-// One echo in the sensor frame, metres.
-struct MatchPoint {
-  float x = 0.0f;
-  float y = 0.0f;
-};
 
 struct MatchResult {
   bool applied = false;      // false: too few echoes near settled occupied cells, or no better fit
@@ -42,16 +27,20 @@ struct MatchResult {
 
 class ScanMatcher {
  public:
-  // A correction is bounded by max_step_rad.
-  explicit ScanMatcher(double max_step_rad);
+  // A correction is bounded by max_step_rad; `l_max` is the map's upper clamp (a cell there is
+  // certainly occupied).
+  ScanMatcher(double max_step_rad, LogOdds l_max);
 
-  // The rotation of `sensor` (world) that best lays `points` onto the map's occupied cells.
-  MatchResult Match(const MatchMap& map, const std::vector<MatchPoint>& points,
+  // The rotation of `sensor` (world) that best lays `echoes` (sensor frame; every k-th when
+  // there are more than kMaxPoints) onto the occupied cells of `map` (its log-odds, in the
+  // frame of its origin and map_yaw).
+  MatchResult Match(const MapView& map, const std::vector<EchoPoint>& echoes,
                     const Pose2D& sensor) const;
 
   // Fewest echoes near settled occupied cells a correction is taken from.
   static constexpr int kMinPoints = 30;
   static constexpr int kIterations = 2;
+  static constexpr std::size_t kMaxPoints = 512;
 
  private:
   struct Sums {
@@ -59,11 +48,12 @@ class ScanMatcher {
     double g = 0.0;  // sum of J * residual
     int points = 0;
   };
-  // Mean misfit of the points at the sensor pose `at`, and (with sums) the normal equation.
-  double Evaluate(const MatchMap& map, const std::vector<MatchPoint>& points, const Pose2D& at,
+  // Mean misfit of the echoes at the sensor pose `at`, and (with sums) the normal equation.
+  double Evaluate(const MapView& map, const std::vector<EchoPoint>& echoes, const Pose2D& at,
                   Sums* sums) const;
 
   double max_step_rad_;
+  LogOdds l_max_;
 };
 
 }  // namespace freespace
