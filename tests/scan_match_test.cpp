@@ -87,6 +87,35 @@ TEST(ScanMatch, TurnsAnOffsetHeadingBackOntoTheWalls) {
   }
 }
 
+// The match's standard error (what the heading filter weighs it by) grows with the echoes'
+// misfit and with fewer echoes.
+TEST(ScanMatch, TheStandardErrorGrowsWithMisfitAndFewerEchoes) {
+  WallMap map;
+  const std::vector<Vec2> walls = Room(&map);
+  const Pose2D truth{20.0, 18.0, 0.0};
+  const ScanMatcher matcher(0.2 * M_PI / 180, kMax);
+  const auto std_of = [&](const std::vector<Vec2>& points) {
+    const MatchResult m = matcher.Match(map.View(), Seen(points, truth), {20.0, 18.0, 0.002});
+    EXPECT_TRUE(m.applied);
+    return m.std_rad;
+  };
+  // Echoes 0, 1 or 2 times `step` in front of the wall.
+  const auto in_front = [&](double step) {
+    std::vector<Vec2> out = walls;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      out[i] += (Vec2(truth.x, truth.y) - out[i]).normalized() * double(i % 3) * step;
+    }
+    return out;
+  };
+  const std::vector<Vec2> base = in_front(0.03);
+  std::vector<Vec2> sparse;
+  for (std::size_t i = 0; i < base.size(); i += 4) sparse.push_back(base[i]);
+  const double std_base = std_of(base);
+  EXPECT_GT(std_base, 0.0);
+  EXPECT_GT(std_of(in_front(0.06)), 1.5 * std_base);
+  EXPECT_GT(std_of(sparse), 1.5 * std_base);
+}
+
 TEST(ScanMatch, ARotationIsBoundedPerScan) {
   WallMap map;
   const std::vector<Vec2> walls = Room(&map);

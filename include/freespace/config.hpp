@@ -88,6 +88,10 @@ struct AlignmentConfig {
   // result stays in the input poses' frame; the map is kept in the corrected one
   // (Result::pose_correction). Needs kind circle and one sensor.
   bool scan_match = false;
+  // How fast the odometry's heading may drift, deg/s (a gyro's yaw-rate bias, wheel slip): the
+  // correction takes more of each match the faster the heading can have drifted since the last
+  // one, against how precisely the match fixes it. > 0.
+  double heading_drift_dps = 0.1;
 };
 
 // Normalisation, neighbourhood hysteresis and morphological opening (paper IV.A).

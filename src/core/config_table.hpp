@@ -176,6 +176,9 @@ void VisitAlignment(C& a, Visitor& v) {
     {"s", AtLeast(0), "a timestamp this much before the last is jitter: no speed sample"});
   v("scan_match", a.scan_match,
     {"", {}, "correct the odometry's heading by matching each scan to the map (not in the paper)"});
+  v("heading_drift_dps", a.heading_drift_dps,
+    {"deg/s", Above(0),
+     "how fast the odometry's heading may drift (scan_match): the share of each match it takes"});
 }
 
 template <class C, class Visitor>

@@ -92,6 +92,7 @@ MatchResult ScanMatcher::Match(const MapView& map, const std::vector<EchoPoint>&
   out.cost_after = Evaluate(map, echoes, at, &final_sums);
   if (final_sums.points < kMinPoints || !(out.cost_after < out.cost_before)) return out;
   out.applied = true;
+  out.std_rad = std::sqrt(out.cost_after / std::max(final_sums.h, 1e-30));
   out.dyaw = at.yaw - sensor.yaw;
   return out;
 }

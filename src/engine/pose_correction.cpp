@@ -9,13 +9,12 @@
 namespace freespace {
 namespace {
 
-// The largest rotation one match finds: 0.2 degrees. With kGain the correction follows a
-// yaw-rate bias of up to 0.15 deg/s at 25 scans a second.
+// The largest rotation one match finds: 0.2 degrees (a scan takes a share of it).
 constexpr double kMaxStepRad = 0.2 * M_PI / 180.0;
-// The share of a match's rotation a scan takes: at 25 scans a second the correction follows a
-// drifting heading over about 1.3 s, and one scan's error of fit turns the pose 3 % as much (a
-// larger share lets the map's own errors of fit walk the heading; docs/design.md).
-constexpr double kGain = 0.03;
+// The misfits of neighbouring echoes are not independent (one face, one quantization): a
+// match's rotation errs about 3 times its standard error from the misfit and the curvature
+// (the spread of the rotations matched with exact odometry, simulated car park and street).
+constexpr double kMisfitCorrelation = 3.0;
 
 Pose2D Compose(const Pose2D& a, const Pose2D& b) {
   const double c = std::cos(a.yaw), s = std::sin(a.yaw);
@@ -46,17 +45,39 @@ Pose2D Estimator::Impl::Corrected(const Pose2D& odometry) const {
 
 // After Align() and Sweep(), before the map's update: the scan's kept echoes (deskewed) matched
 // against the map of the scans before it, in its aligned frame; the sensor's yaw in the world
-// and in the map turned by a share of the match, and the correction kept for the next scan.
+// and in the map turned by the share of the match that HeadingShare() gives, and the correction
+// kept for the next scan. A cleared map starts a heading that is exact by definition.
 void Estimator::Impl::MatchPose(bool has_update) {
   Result& r = result_;
-  if (!config_.alignment.scan_match || !has_update || r.map_reset || !map_has_scans_) return;
+  if (!config_.alignment.scan_match) return;
+  if (r.map_reset || !map_has_scans_) {
+    heading_variance_ = 0.0;
+    heading_t_ = r.timestamp_s;
+    return;
+  }
+  if (!has_update) return;
   const auto start = std::chrono::steady_clock::now();
+  const double drift = config_.alignment.heading_drift_dps * M_PI / 180.0 *
+                       std::max(0.0, r.timestamp_s - heading_t_);
+  heading_t_ = r.timestamp_s;
+  heading_variance_ += drift * drift;
   const MatchResult m = matcher_.Match(LogOddsView(), preprocess_->kept(), r.sensor_pose);
-  if (m.applied) Turn(kGain * m.dyaw);
+  if (m.applied) Turn(HeadingShare(m.std_rad) * m.dyaw);
   r.pose_matched = m.applied;
   r.pose_correction = correction_;
   r.times.align_us +=
       std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A scalar Kalman filter on the heading's error: its variance grows by the square of the drift
+// allowed since the last match and shrinks by each match, whose variance is its standard error
+// times kMisfitCorrelation, squared. Returns the share of the match to take.
+double Estimator::Impl::HeadingShare(double match_std_rad) {
+  const double noise = kMisfitCorrelation * match_std_rad;
+  const double share = heading_variance_ / (heading_variance_ + noise * noise);
+  if (!std::isfinite(share)) return 0.0;
+  heading_variance_ *= 1.0 - share;
+  return share;
 }
 
 void Estimator::Impl::ToInputFrame() {

@@ -23,6 +23,7 @@ struct MatchResult {
   double dyaw = 0.0;         // the rotation of the sensor pose about its position, radians
   double cost_before = 0.0;  // mean squared misfit (0: every echo on a certain-occupied cell)
   double cost_after = 0.0;
+  double std_rad = 0.0;  // the rotation's standard error (misfit over the curvature)
 };
 
 class ScanMatcher {
