@@ -29,6 +29,14 @@ namespace freespace::test {
                  << " (tests/data, or set FREESPACE_DATA_DIR to a folder that has it)"; \
   }
 
+// The same for a full recording (FullDataDir()).
+#define FREESPACE_REQUIRE_FULL_DATA(relative, path_var)                                          \
+  const std::string path_var = ::freespace::test::FullDataDir() + "/" + (relative);              \
+  if (::freespace::test::FullDataDir().empty() || !std::filesystem::exists(path_var)) {          \
+    GTEST_SKIP() << "full recording not found: " << (relative)                                   \
+                 << " (../shared/data, or set FREESPACE_FULL_DATA_DIR to a folder that has it)"; \
+  }
+
 // The backends every kernel-stage test runs on.
 inline std::vector<BackendKind> AllBackends() { return {BackendKind::kTbb, BackendKind::kOpenCl}; }
 

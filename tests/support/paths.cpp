@@ -17,6 +17,14 @@ std::string DataDir() {
   return "";
 }
 
+std::string FullDataDir() {
+  if (const char* env = std::getenv("FREESPACE_FULL_DATA_DIR")) {
+    if (std::filesystem::is_directory(env)) return env;
+  }
+  const std::string beside = std::string(FREESPACE_SOURCE_DIR) + "/../shared/data";
+  return std::filesystem::is_directory(beside) ? beside : "";
+}
+
 std::string SourcePath(const std::string& relative) {
   return std::string(FREESPACE_SOURCE_DIR) + "/" + relative;
 }

@@ -10,8 +10,12 @@
 namespace freespace::test {
 
 // The recorded data folder: FREESPACE_DATA_DIR when set and a folder, else the one configured at
-// build time (../shared/data); empty when neither exists.
+// build time (tests/data, the excerpts); empty when neither exists.
 std::string DataDir();
+
+// The full recordings (the shipped data's excerpts come from them): FREESPACE_FULL_DATA_DIR when
+// set and a folder, else ../shared/data beside the source tree; empty when neither exists.
+std::string FullDataDir();
 
 // `relative` (e.g. "docs/configuration.md") in the source tree this build was configured from.
 std::string SourcePath(const std::string& relative);
