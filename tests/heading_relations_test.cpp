@@ -40,11 +40,14 @@ std::vector<Relation> ReadRelations(const std::string& path) {
 struct Track {
   std::vector<double> t, odometry_yaw, corrected_yaw;
 
-  // The index of the scan at time `t` (the relations name scan times).
+  // The index of the scan nearest the time `time` (the relations name scan times; the log's
+  // are in order).
   std::size_t At(double time) const {
-    const auto it = std::lower_bound(t.begin(), t.end(), time - 1e-3);
-    EXPECT_TRUE(it != t.end() && std::abs(*it - time) < 1e-3) << "no scan at t = " << time;
-    return std::min<std::size_t>(it - t.begin(), t.size() - 1);
+    const auto it = std::lower_bound(t.begin(), t.end(), time);
+    std::size_t k = std::min<std::size_t>(it - t.begin(), t.size() - 1);
+    if (k > 0 && std::abs(t[k - 1] - time) <= std::abs(t[k] - time)) --k;
+    EXPECT_LT(std::abs(t[k] - time), 1e-3) << "no scan at t = " << time;
+    return k;
   }
 };
 

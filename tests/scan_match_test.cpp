@@ -88,7 +88,7 @@ TEST(ScanMatch, TurnsAnOffsetHeadingBackOntoTheWalls) {
 }
 
 // The match's standard error (what the heading filter weighs it by) grows with the echoes'
-// misfit and with fewer echoes.
+// misfit and with fewer echoes, and is never 0.
 TEST(ScanMatch, TheStandardErrorGrowsWithMisfitAndFewerEchoes) {
   WallMap map;
   const std::vector<Vec2> walls = Room(&map);
@@ -110,6 +110,7 @@ TEST(ScanMatch, TheStandardErrorGrowsWithMisfitAndFewerEchoes) {
   const std::vector<Vec2> base = in_front(0.03);
   std::vector<Vec2> sparse;
   for (std::size_t i = 0; i < base.size(); i += 4) sparse.push_back(base[i]);
+  EXPECT_GT(std_of(walls), 0.0);  // on the cells' centres: no misfit, still not exact
   const double std_base = std_of(base);
   EXPECT_GT(std_base, 0.0);
   EXPECT_GT(std_of(in_front(0.06)), 1.5 * std_base);

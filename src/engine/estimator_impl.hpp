@@ -59,7 +59,7 @@ class Estimator::Impl {
   Pose2D Corrected(const Pose2D& odometry) const;
   void MatchPose(bool has_update);
   void Turn(double angle);
-  double HeadingShare(double match_std_rad);
+  double HeadingShare(double match_std_rad, double t);
   // The result's world positions (origin, map_yaw, sensor poses; the polygon after it) from the
   // corrected frame the map is kept in to the frame of the input poses.
   void ToInputFrame();
