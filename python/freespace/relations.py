@@ -28,7 +28,7 @@ TIME_TOLERANCE_S = 1e-3
 
 def read_relations(path):
     """The relations as an (n, 5) array of t1, t2, x, y, yaw. Raises InputError naming the line
-    that is not eight numbers."""
+    that is not eight finite numbers."""
     rows = []
     with open(path, encoding="utf-8") as f:
         for number, line in enumerate(f, 1):
@@ -39,12 +39,29 @@ def read_relations(path):
                 values = [float(v) for v in fields]
             except ValueError:
                 values = []
-            if len(values) != 8:
-                raise InputError(f"{path}:{number}: expected t1 t2 x y z roll pitch yaw: {line.strip()}")
+            if len(values) != 8 or not all(math.isfinite(v) for v in values):
+                raise InputError(
+                    f"{path}:{number}: expected t1 t2 x y z roll pitch yaw: {line.strip()}")
             rows.append([values[0], values[1], values[2], values[3], values[7]])
     if not rows:
         raise InputError(f"{path}: no relations")
     return np.array(rows)
+
+
+def _scan_at(times, wanted, relations_path, log_path):
+    """The index of the scan nearest each wanted time (the log's times in any order). Raises
+    InputError when none lies within TIME_TOLERANCE_S."""
+    order = np.argsort(times, kind="stable")
+    sorted_times = times[order]
+    right = np.clip(np.searchsorted(sorted_times, wanted), 0, len(times) - 1)
+    left = np.clip(right - 1, 0, len(times) - 1)
+    nearer = np.where(np.abs(sorted_times[left] - wanted) <= np.abs(sorted_times[right] - wanted),
+                      left, right)
+    missing = np.abs(sorted_times[nearer] - wanted) > TIME_TOLERANCE_S
+    if missing.any():
+        raise InputError(
+            f"{relations_path}: no scan of {log_path} at t = {wanted[np.argmax(missing)]:.6f}")
+    return order[nearer]
 
 
 def _relative(a, b):
@@ -78,9 +95,11 @@ def _summary(yaw_deg, shift_m):
 
 
 def score_relations(log_path, relations_path, config, long_s=10.0):
-    """Runs `config`, with the sensor the log implies, over the log and scores the odometry and
-    the corrected poses against the relations. Raises InputError when a relation names a time no
-    scan of the log has."""
+    """Runs `config`, with the sensor the log implies (its own sensor section is replaced), over
+    the log and scores the odometry and the corrected poses against the relations, each at the
+    scan nearest its time. Raises InputError when the relations file is malformed (before the
+    log is run) or a relation names a time no scan of the log has."""
+    relations = read_relations(relations_path)
     reader = open_log(log_path)
     config = config.with_overrides({"sensor": reader.sensor})
     estimator = Estimator(config)
@@ -92,16 +111,10 @@ def score_relations(log_path, relations_path, config, long_s=10.0):
         times.append(scan.t)
         odometry.append(tuple(scan.pose))
         correction.append(tuple(result.pose_correction))
+    if not times:
+        raise InputError(f"{log_path}: no scans")
     times, odometry, correction = np.array(times), np.array(odometry), np.array(correction)
-    relations = read_relations(relations_path)
-    index = []
-    for column in (0, 1):
-        k = np.clip(np.searchsorted(times, relations[:, column] - TIME_TOLERANCE_S), 0, len(times) - 1)
-        missing = np.abs(times[k] - relations[:, column]) > TIME_TOLERANCE_S
-        if missing.any():
-            t = relations[np.argmax(missing), column]
-            raise InputError(f"{relations_path}: no scan of {log_path} at t = {t:.6f}")
-        index.append(k)
+    index = [_scan_at(times, relations[:, column], relations_path, log_path) for column in (0, 1)]
     long = (relations[:, 1] - relations[:, 0]) >= long_s
     report = {"log": log_path, "relations_file": relations_path, "scans": int(len(times)),
               "rejected": int(rejected), "matched": int(matched), "long_s": long_s,
@@ -131,13 +144,15 @@ def main(argv=None):
         field, sep, value = item.partition("=")
         if not sep:
             parser.error(f"--set {item}: expected FIELD=VALUE")
+        if field == "sensor" or field.startswith("sensor."):
+            parser.error(f"--set {item}: the sensor comes from the log")
         config = config.with_overrides({field: _yaml_value(value)})
     print(json.dumps(score_relations(args.log, args.relations, config, args.long_s), indent=2))
     return 0
 
 
 def _yaml_value(text):
-    """A --set value as YAML reads a scalar: true/false, a number, else the text."""
+    """A --set value: true or false (any case), else an integer, else a number, else the text."""
     lowered = text.strip().lower()
     if lowered in ("true", "false"):
         return lowered == "true"

@@ -83,6 +83,14 @@ class RelationsTest(unittest.TestCase):
         path = self.write("bad.relations", "1.0 2.0 0 0 0 0 0 0\n1.0 2.0 x 0 0 0 0 0\n")
         with self.assertRaisesRegex(fs.InputError, "bad.relations:2"):
             relations.read_relations(path)
+        path = self.write("nan.relations", "# t1 t2 ...\n\nnan 2.0 0 0 0 0 0 0\n")
+        with self.assertRaisesRegex(fs.InputError, "nan.relations:3"):
+            relations.score_relations(self.log, path, self.config(False))
+
+    def test_each_time_takes_the_nearest_scan(self):
+        times = np.array([3.0, 1.0, 2.0, 2.0005])
+        wanted = np.array([1.0004, 2.0004, 1.9999, 3.0])
+        self.assertEqual(list(relations._scan_at(times, wanted, "r", "l")), [1, 3, 2, 0])
 
 
 if __name__ == "__main__":
