@@ -22,6 +22,8 @@ Result SmallResult() {
   r.pose = {1.25, -2.5, 0.5};
   r.origin = Vec2(-30.0, -32.0);
   r.vehicle_cells = Vec2(150.5, 149.25);
+  r.map_yaw = 0.0125;
+  r.pose_correction = {0.5, -0.25, -0.0125};
   r.filtered_speed_mps = 3.125;
   r.polygon_status = PolygonStatus::kOk;
   r.polygon = {Vec2(0, 0), Vec2(1.5, 0), Vec2(0, 2.25)};
@@ -32,7 +34,9 @@ TEST(PolygonJsonLine, KeepsItsFormat) {
   EXPECT_EQ(PolygonJsonLine(7, SmallResult()),
             "{\"scan\":7,\"t_s\":12.500000,\"status\":\"ok\",\"frame\":\"world\",\"pose\":{\"x\":"
             "1.250000,\"y\":-2.500000,\"yaw\":0.500000},\"origin\":[-30.000000,-32.000000],"
-            "\"vehicle_cells\":[150.5000,149.2500],\"speed_mps\":3.125,\"polygon_status\":\"ok\","
+            "\"vehicle_cells\":[150.5000,149.2500],\"map_yaw_rad\":0.012500000,"
+            "\"pose_correction\":{\"x\":0.500000,\"y\":-0.250000,\"yaw\":-0.012500},"
+            "\"speed_mps\":3.125,\"polygon_status\":\"ok\","
             "\"polygon\":[[0.0000,0.0000],[1.5000,0.0000],[0.0000,2.2500],[0.0000,0.0000]]}");
 }
 

@@ -361,8 +361,9 @@ Command AddRunCommand(CLI::App& app) {
       "run",
       "Process a recorded log. Writes OUT/polygons.jsonl (one JSON object per processed scan:\n"
       "scan, t_s, status, frame, pose {x,y,yaw}, origin (world position of the map's cell (0,0)\n"
-      "corner), vehicle_cells, speed_mps, polygon [[x,y],...]: a closed counter-clockwise ring in\n"
-      "world metres, at most N distinct vertices),\n"
+      "corner), vehicle_cells, map_yaw_rad, pose_correction {x,y,yaw}, speed_mps, polygon_status,\n"
+      "polygon [[x,y],...]: a closed counter-clockwise ring in world metres, at most N distinct\n"
+      "vertices),\n"
       "OUT/summary.json (scans, skipped, rejected by reason, point counts, stage_us median and\n"
       "p99 per stage) and OUT/snapshot_<scan>.png every K scans and for the last scan.\n"
       "Logs: CARMEN (FLASER, ROBOTLASER1), KITTI .bin frames and sequence folders (velodyne/,\n"

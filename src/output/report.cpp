@@ -22,7 +22,11 @@ std::string PolygonJsonLine(std::uint64_t scan, const Result& r) {
   AppendJsonNumber(&line, r.vehicle_cells.x(), 4);
   line += ',';
   AppendJsonNumber(&line, r.vehicle_cells.y(), 4);
-  line += "],\"speed_mps\":";
+  line += "],\"map_yaw_rad\":";
+  AppendJsonNumber(&line, r.map_yaw, 9);
+  line += ",\"pose_correction\":";
+  AppendJsonPose(&line, r.pose_correction.x, r.pose_correction.y, r.pose_correction.yaw);
+  line += ",\"speed_mps\":";
   AppendJsonNumber(&line, r.filtered_speed_mps, 3);
   line += std::string(",\"polygon_status\":\"") + ToString(r.polygon_status) + "\",\"polygon\":";
   line += RingJson(ClosedCcwRing(r.polygon));  // closed, counter-clockwise
