@@ -139,7 +139,7 @@ class Estimator::Impl {
   ScanMatcher matcher_;               // alignment.scan_match
   Pose2D correction_;                 // of the odometry's frame (Result::pose_correction)
   double heading_variance_ = 0.0;     // of the correction's heading error, rad^2
-  double heading_t_ = 0.0;            // the time it was last grown to
+  double heading_t_ = 0.0;            // the last applied match's time (or the map's start)
   bool map_has_scans_ = false;        // a scan updated the map since it was last cleared
   mutable std::vector<LogOdds> map_mirror_;
   mutable std::vector<std::uint8_t> free_mirror_;
