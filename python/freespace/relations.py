@@ -20,6 +20,7 @@ import math
 import sys
 
 import numpy as np
+import yaml
 
 from . import Config, Estimator, InputError, open_log
 
@@ -94,14 +95,15 @@ def _summary(yaw_deg, shift_m):
             "shift_m_mean": float(shift_m.mean()), "shift_m_median": float(np.median(shift_m))}
 
 
-def score_relations(log_path, relations_path, config, long_s=10.0):
-    """Runs `config`, with the sensor the log implies (its own sensor section is replaced), over
-    the log and scores the odometry and the corrected poses against the relations, each at the
-    scan nearest its time. Raises InputError when the relations file is malformed (before the
-    log is run) or a relation names a time no scan of the log has."""
+def score_relations(log_path, relations_path, config, long_s=10.0, keep_sensor=False):
+    """Runs `config` over the log, with the sensor the log implies unless `keep_sensor`, and
+    scores the odometry and the corrected poses against the relations, each at the scan nearest
+    its time. Raises InputError when the relations file is malformed (before the log is run) or
+    a relation names a time no scan of the log has."""
     relations = read_relations(relations_path)
     reader = open_log(log_path)
-    config = config.with_overrides({"sensor": reader.sensor})
+    if not keep_sensor:
+        config = config.with_overrides({"sensor": reader.sensor})
     estimator = Estimator(config)
     times, odometry, correction, matched, rejected = [], [], [], 0, 0
     for scan in reader:
@@ -140,30 +142,20 @@ def main(argv=None):
                         help="relations at least this long are the long ones (default 10 s)")
     args = parser.parse_args(argv)
     config = Config.from_yaml_file(args.config) if args.config else Config()
+    keep_sensor = False
+    if args.config:
+        with open(args.config, encoding="utf-8") as f:
+            keep_sensor = "sensor" in (yaml.safe_load(f) or {})
     for item in args.set:
         field, sep, value = item.partition("=")
         if not sep:
             parser.error(f"--set {item}: expected FIELD=VALUE")
         if field == "sensor" or field.startswith("sensor."):
-            parser.error(f"--set {item}: the sensor comes from the log")
-        config = config.with_overrides({field: _yaml_value(value)})
-    print(json.dumps(score_relations(args.log, args.relations, config, args.long_s), indent=2))
+            parser.error(f"--set {item}: the sensor comes from the log or the --config file")
+        config = config.with_overrides({field: yaml.safe_load(value)})
+    report = score_relations(args.log, args.relations, config, args.long_s, keep_sensor)
+    print(json.dumps(report, indent=2))
     return 0
-
-
-def _yaml_value(text):
-    """A --set value: true or false (any case), else an integer, else a number, else the text."""
-    lowered = text.strip().lower()
-    if lowered in ("true", "false"):
-        return lowered == "true"
-    try:
-        return int(text)
-    except ValueError:
-        pass
-    try:
-        return float(text)
-    except ValueError:
-        return text
 
 
 if __name__ == "__main__":
