@@ -260,6 +260,65 @@ TEST(Metrics, TheSeenAreaAccumulatesAndMovesWithTheMap) {
   EXPECT_DOUBLE_EQ(evaluator.Evaluate(shifted.view, polygon, truth).reference_seen_m2, 16.0);
 }
 
+// A map whose axes are turned (MapView::map_yaw, as alignment rotate or scan_match leave them)
+// is scored in its own cells: the hand case above, its map, truth and polygon all carried by one
+// rigid motion, scores the same; with the map's yaw left out it would not.
+TEST(Metrics, ARotatedMapIsScoredInItsOwnAxes) {
+  TruthFrame truth;
+  truth.obstacles = {Box(1.25, 1.25, 1.75, 1.75)};
+  truth.visible = Box(0, 0, 3, 4);
+  truth.in_sight = WholeMap();
+  HandMap map({"FFF.",  //
+               "FFFF",  //
+               "FOFF",  //
+               "FFFF"});
+  const Polygon polygon = Box(0.5, 0.5, 2.5, 2.5);
+  const Vec2 centre(0.5, 0.7);
+  const ScanMetrics straight = QualityEvaluator().Evaluate(map.view, polygon, truth, centre);
+  ASSERT_DOUBLE_EQ(straight.intrusion_m2, 1.0);
+
+  // The map's cells laid in the world turned by `yaw` about `origin`, and everything with them.
+  const auto place = [&](double yaw, const Vec2& origin, TruthFrame* t, HandMap* m) {
+    const double c = std::cos(yaw), s = std::sin(yaw);
+    const auto move = [&](const Polygon& p) {
+      Polygon out;
+      for (const Vec2& v : p)
+        out.push_back(origin + Vec2(c * v.x() - s * v.y(), s * v.x() + c * v.y()));
+      return out;
+    };
+    for (Polygon& o : t->obstacles) o = move(o);
+    t->visible = move(t->visible);
+    t->in_sight = move(t->in_sight);
+    m->view.log_odds = m->log_odds.data();
+    m->view.free = m->free.data();
+    m->view.origin = origin;
+    m->view.map_yaw = yaw;
+    return move(polygon);
+  };
+  TruthFrame turned_truth = truth;
+  HandMap turned = map;
+  const Polygon turned_polygon = place(0.7, {3.0, -2.0}, &turned_truth, &turned);
+  QualityEvaluator evaluator;
+  const ScanMetrics m = evaluator.Evaluate(turned.view, turned_polygon, turned_truth, centre);
+  EXPECT_NEAR(m.polygon_area_m2, straight.polygon_area_m2, 1e-9);
+  EXPECT_NEAR(m.intrusion_m2, straight.intrusion_m2, 1e-9);
+  EXPECT_NEAR(m.intrusion_geometric_m2, straight.intrusion_geometric_m2, 1e-9);
+  EXPECT_EQ(m.correct, straight.correct);
+  EXPECT_EQ(m.false_free, straight.false_free);
+  EXPECT_NEAR(m.reference_free_m2, straight.reference_free_m2, 1e-9);
+  EXPECT_NEAR(m.covered_free_m2, straight.covered_free_m2, 1e-9);
+  EXPECT_NEAR(m.reference_star_m2, straight.reference_star_m2, 1e-9);
+  EXPECT_NEAR(m.reference_seen_m2, straight.reference_seen_m2, 1e-9);
+
+  // The next map turned further: the cells seen before are not carried into it. This scan sees
+  // column 0 only (4 free cells); carried over, columns 1 and 2 would count too.
+  TruthFrame next_truth = truth;
+  next_truth.visible = Box(0, 0, 1, 4);
+  HandMap next = map;
+  const Polygon next_polygon = place(0.8, {3.0, -2.0}, &next_truth, &next);
+  EXPECT_NEAR(evaluator.Evaluate(next.view, next_polygon, next_truth).reference_seen_m2, 4.0, 1e-9);
+}
+
 TEST(Metrics, SummaryPoolsAndAverages) {
   MetricsSeries series;
   ScanMetrics a, b;

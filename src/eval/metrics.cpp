@@ -23,11 +23,17 @@ double Ratio(double a, double b) { return b > 0.0 ? a / b : kNaN; }
 
 nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
+// A world offset in the map's axes (turned by -map_yaw), in cells.
+Vec2 OffsetInCells(const Vec2& d, const MapView& map) {
+  const double c = std::cos(map.map_yaw), s = std::sin(map.map_yaw);
+  return Vec2(c * d.x() + s * d.y(), -s * d.x() + c * d.y()) / map.resolution_m;
+}
+
 // Cell coordinates (continuous: cell (r, c) spans [c, c+1) x [r, r+1)) of world points.
 Polygon ToCells(const Polygon& world, const MapView& map) {
   Polygon out;
   out.reserve(world.size());
-  for (const Vec2& p : world) out.push_back((p - map.origin) / map.resolution_m);
+  for (const Vec2& p : world) out.push_back(OffsetInCells(p - map.origin, map));
   return out;
 }
 
@@ -176,10 +182,12 @@ void QualityEvaluator::PolygonCells(const MapView& map, const std::vector<Vec2>&
 void QualityEvaluator::See(const MapView& map, const Polygon& visible) {
   const int w = map.width, h = map.height;
   const std::size_t cells = std::size_t(w) * h;
-  bool restart = !have_seen_ || w != seen_width_ || h != seen_height_;
+  // Seen cells carry over a shift of the map by whole cells; a turn of its axes starts afresh.
+  bool restart = !have_seen_ || w != seen_width_ || h != seen_height_ ||
+                 std::abs(std::remainder(map.map_yaw - seen_yaw_, 2.0 * M_PI)) > 1e-9;
   int kx = 0, ky = 0;
   if (!restart) {
-    const Vec2 d = (map.origin - seen_origin_) / map.resolution_m;
+    const Vec2 d = OffsetInCells(map.origin - seen_origin_, map);
     kx = int(std::lround(d.x()));
     ky = int(std::lround(d.y()));
     restart = std::abs(d.x() - kx) > 1e-6 || std::abs(d.y() - ky) > 1e-6;
@@ -202,6 +210,7 @@ void QualityEvaluator::See(const MapView& map, const Polygon& visible) {
   }
   have_seen_ = true;
   seen_origin_ = map.origin;
+  seen_yaw_ = map.map_yaw;
   seen_width_ = w;
   seen_height_ = h;
   FillCentres(ToCells(visible, map), w, h, &seen_, &crossings_);

@@ -80,7 +80,8 @@ struct ScanMetrics {
 
 // Scores scans in order. The "seen so far" area (union of the true visibility polygons) is
 // kept in the map's cells and moves with the map's origin; a scan whose origin is not a
-// whole number of cells from the last one restarts it.
+// whole number of cells from the last one, or whose map_yaw differs, restarts it. World points
+// go to cells through the map's origin, map_yaw and resolution (MapView).
 class QualityEvaluator {
  public:
   // `map`: the estimator's map after the scan; `polygon`: its free-space polygon (world
@@ -111,6 +112,7 @@ class QualityEvaluator {
   std::vector<double> crossings_;
   bool have_seen_ = false;
   Vec2 seen_origin_;
+  double seen_yaw_ = 0.0;
   int seen_width_ = 0, seen_height_ = 0;
 };
 
