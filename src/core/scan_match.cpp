@@ -103,4 +103,15 @@ MatchResult ScanMatcher::Match(const MapView& map, const std::vector<EchoPoint>&
   return out;
 }
 
+double HeadingFilter::Share(double match_std_rad, double t) {
+  const double drift = drift_rad_per_s_ * std::max(0.0, t - t_);
+  const double variance = variance_ + drift * drift;
+  const double noise = kMisfitCorrelation * match_std_rad;
+  const double share = variance / (variance + noise * noise);
+  if (!std::isfinite(share)) return 0.0;
+  variance_ = (1.0 - share) * variance;
+  t_ = std::max(t_, t);
+  return share;
+}
+
 }  // namespace freespace

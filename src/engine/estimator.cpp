@@ -43,7 +43,8 @@ Estimator::Impl::Impl(const Config& config)
     : config_(Validated(config)),
       circle_(config_),
       movers_(MoverRule::Of(config_)),
-      matcher_(MakeMatcher(config_)) {
+      matcher_(MakeMatcher(config_)),
+      heading_(config_.alignment.heading_drift_dps * M_PI / 180.0) {
   backend_ = CreateBackend(config_);
   preprocess_ = std::make_unique<Preprocessor>(config_);
   const Backend::CrewRequest crew = backend_->WantedCrew();

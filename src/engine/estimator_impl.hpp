@@ -59,7 +59,6 @@ class Estimator::Impl {
   Pose2D Corrected(const Pose2D& odometry) const;
   void MatchPose(bool has_update);
   void Turn(double angle);
-  double HeadingShare(double match_std_rad, double t);
   // The result's world positions (origin, map_yaw, sensor poses; the polygon after it) from the
   // corrected frame the map is kept in to the frame of the input poses.
   void ToInputFrame();
@@ -138,8 +137,7 @@ class Estimator::Impl {
   std::int32_t footprint_[8] = {};    // the footprint's corners, fixed point
   ScanMatcher matcher_;               // alignment.scan_match
   Pose2D correction_;                 // of the odometry's frame (Result::pose_correction)
-  double heading_variance_ = 0.0;     // of the correction's heading error, rad^2
-  double heading_t_ = 0.0;            // the last applied match's time (or the map's start)
+  HeadingFilter heading_;             // the share of each match (alignment.heading_drift_dps)
   bool map_has_scans_ = false;        // a scan updated the map since it was last cleared
   mutable std::vector<LogOdds> map_mirror_;
   mutable std::vector<std::uint8_t> free_mirror_;

@@ -11,11 +11,6 @@ namespace {
 
 // The largest rotation one match finds: 0.2 degrees (a scan takes a share of it).
 constexpr double kMaxStepRad = 0.2 * M_PI / 180.0;
-// The misfits of neighbouring echoes are not independent (one face, one quantization): a
-// match's rotation errs about 3 times its standard error from the misfit and the curvature
-// (with exact odometry on a simulated car-park drive the matched rotations spread 3.4 times
-// their median standard error).
-constexpr double kMisfitCorrelation = 3.0;
 
 Pose2D Compose(const Pose2D& a, const Pose2D& b) {
   const double c = std::cos(a.yaw), s = std::sin(a.yaw);
@@ -46,41 +41,24 @@ Pose2D Estimator::Impl::Corrected(const Pose2D& odometry) const {
 
 // After Align() and Sweep(), before the map's update: the scan's kept echoes (deskewed) matched
 // against the map of the scans before it, in its aligned frame; the sensor's yaw in the world
-// and in the map turned by the share of the match that HeadingShare() gives, and the correction
-// kept for the next scan. A cleared map starts a heading that is exact by definition.
+// and in the map turned by the share of the match that the heading filter gives (HeadingFilter),
+// and the correction kept for the next scan. A cleared map starts a heading that is exact by
+// definition.
 void Estimator::Impl::MatchPose(bool has_update) {
   Result& r = result_;
   if (!config_.alignment.scan_match) return;
   if (r.map_reset || !map_has_scans_) {
-    heading_variance_ = 0.0;
-    heading_t_ = r.timestamp_s;
+    heading_.Reset(r.timestamp_s);
     return;
   }
   if (!has_update) return;
   const auto start = std::chrono::steady_clock::now();
   const MatchResult m = matcher_.Match(LogOddsView(), preprocess_->kept(), r.sensor_pose);
-  if (m.applied) Turn(HeadingShare(m.std_rad, r.timestamp_s) * m.dyaw);
+  if (m.applied) Turn(heading_.Share(m.std_rad, r.timestamp_s) * m.dyaw);
   r.pose_matched = m.applied;
   r.pose_correction = correction_;
   r.times.align_us +=
       std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
-}
-
-// A scalar Kalman filter on the heading's error. Its variance after the last applied match
-// grows by the square of the drift the field allows since then (a yaw-rate bias turns the
-// heading in proportion to the time, however many scans or failed matches lie between); the
-// match, whose variance is (kMisfitCorrelation x its standard error)^2, takes the share
-// variance / (variance + its own), and the variance shrinks by it. Returns the share.
-double Estimator::Impl::HeadingShare(double match_std_rad, double t) {
-  const double drift =
-      config_.alignment.heading_drift_dps * M_PI / 180.0 * std::max(0.0, t - heading_t_);
-  const double variance = heading_variance_ + drift * drift;
-  const double noise = kMisfitCorrelation * match_std_rad;
-  const double share = variance / (variance + noise * noise);
-  if (!std::isfinite(share)) return 0.0;
-  heading_variance_ = (1.0 - share) * variance;
-  heading_t_ = std::max(heading_t_, t);  // a timestamp a little back does not count twice
-  return share;
 }
 
 void Estimator::Impl::ToInputFrame() {
