@@ -37,6 +37,15 @@ printf 'alignment:\n  time_jitter_s: 0.1\n' >"$out/strict-clock.yaml"
 grep -q '"timestamp_not_increasing"' "$out/intel-clock/summary.json" || fail "no rejected scans"
 grep -q "more than alignment.time_jitter_s" "$out/intel-clock.err" || fail "rejection message"
 
+# The last scan rejected (the first again, 200 s back): the closing snapshot is the last
+# processed scan's (59), not the rejected one's.
+grep '^FLASER' "$log" | head -60 >"$out/last-rejected.log"
+grep -m 1 '^FLASER' "$log" >>"$out/last-rejected.log"
+"$bin" run --log "$out/last-rejected.log" --out "$out/last-rejected" --snapshot-every 0 --quiet \
+  2>/dev/null || fail "run on last-rejected.log failed"
+[ "$(cd "$out/last-rejected" && ls snapshot_*.png)" = "snapshot_000059.png" ] \
+  || fail "closing snapshot: $(ls "$out/last-rejected")"
+
 # A malformed line: reported with file and line, skipped and counted; --strict stops.
 head -n 40 "$log" >"$out/bad.log"
 echo "FLASER 180 1.0 2.0 3.0" >>"$out/bad.log"

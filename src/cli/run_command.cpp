@@ -169,7 +169,9 @@ class LogRun {
   // A rig's log goes by cycles (CycleReader); --max-scans counts scans.
   int ProcessLog() {
     std::vector<Scan> cycle;
-    const Result* last = nullptr;
+    // A copy: the estimator's result is the next scan's once that is processed, rejected too.
+    Result last;
+    bool any = false;
     while (options_.max_scans <= 0 || tally_.scans_read < options_.max_scans) {
       const bool more = cycles_->Next(&cycle);
       if (ReportIssues()) return kExitBadInput;
@@ -181,13 +183,14 @@ class LogRun {
       if (verdict == Verdict::kStop) return kExitBadInput;
       if (verdict == Verdict::kSkip) continue;
       Keep(r);
-      last = &r;
+      last = r;
+      any = true;
       PrintProgress();
     }
     // The last processed scan always gets a snapshot.
-    if (last != nullptr &&
+    if (any &&
         (options_.snapshot_every <= 0 || (tally_.processed - 1) % options_.snapshot_every != 0)) {
-      Snapshot(*last);
+      Snapshot(last);
     }
     return kExitOk;
   }
