@@ -118,6 +118,99 @@ TEST(Io, RobotLaserLinesWithOneTimestampAreTheLayersOfOneScan) {
   EXPECT_TRUE(reader->TakeIssues().empty());
 }
 
+// What a skipped CARMEN line may not leave behind: a FLASER line with a field too many (which
+// would shift its pose and time), its ranges in the saturation value or in the next scan, a rear
+// laser whose lines are all unusable, a hexadecimal number.
+TEST(Io, CarmenLinesSkippedLeaveNothingBehind) {
+  {
+    std::string extra = Flaser(180, 3.0, 0, 2.0);
+    extra.insert(extra.find(" 3.000000"), " 3.000000");  // 181 ranges for n = 180
+    std::string saturated = Flaser(180, 500.0, 0, 3.0);  // all 500 m, its timestamp broken
+    saturated.replace(saturated.rfind(" host"), 0, "x");
+    const std::string path = TempFile(
+        "skip1.log", Flaser(180, 3.0, 1.0, 1.0) + extra + saturated + Flaser(180, 3.0, 1.0, 4.0));
+    auto reader = OpenLog(path);
+    EXPECT_DOUBLE_EQ(reader->sensor().max_range_m, 81.83);  // not the skipped line's 500
+    Scan scan;
+    std::vector<double> times;
+    while (reader->Next(&scan)) {
+      times.push_back(scan.timestamp_s);
+      EXPECT_DOUBLE_EQ(scan.pose.x, 1.0);
+      EXPECT_FALSE(scan.points[3].echo);  // 81.83 m: no echo
+    }
+    EXPECT_EQ(times, (std::vector<double>{1.0, 4.0}));
+    const auto issues = reader->TakeIssues();
+    ASSERT_EQ(issues.size(), 2u);
+    EXPECT_EQ(issues[0].line, 2u);
+    EXPECT_NE(issues[0].message.find("too many fields: 192 fields, expected 191"),
+              std::string::npos)
+        << issues[0].message;
+    EXPECT_EQ(issues[1].line, 3u);
+  }
+  {
+    // A ROBOTLASER1 scan after a FLASER line skipped for a bad range holds its own points only.
+    SensorConfig sensor;
+    sensor.layers = 1;
+    sensor.min_angle_deg = -10;
+    sensor.max_angle_deg = 10;
+    sensor.angular_resolution_deg = 0.5;
+    sensor.max_range_m = 60;
+    const std::string robot = ::testing::TempDir() + "/skip2_robot.log";
+    RobotLaserWriter writer(robot, sensor);
+    for (int k = 0; k < 2; ++k) {
+      Scan scan = test::MakeScan(5.0 + k, {1.0 * k, 2.0, 0.25}, {}, {});
+      for (int b = 0; b <= 40; ++b) {
+        ScanPoint p;
+        p.angle_rad = float((-10 + 0.5 * b) * M_PI / 180);
+        p.range_m = 10.0f;
+        scan.points.push_back(p);
+      }
+      writer.Write(scan);
+    }
+    writer.Close();
+    std::ifstream in(robot);
+    std::string first, second, line;
+    while (std::getline(in, line))
+      (first.empty() && line[0] != '#' ? first : second) += line + "\n";
+    std::string bad = Flaser(180, 3.0, 0, 5.5);
+    bad.replace(bad.find(" 3.000000"), 9, " BAD");
+    auto reader = OpenLog(TempFile("skip2.log", first + bad + second));
+    Scan scan;
+    std::vector<std::size_t> sizes;
+    while (reader->Next(&scan)) sizes.push_back(scan.points.size());
+    EXPECT_EQ(sizes, (std::vector<std::size_t>{41, 41}));
+    ASSERT_EQ(reader->TakeIssues().size(), 1u);
+  }
+  {
+    // RLASER lines, every one truncated: one laser, and the user is told the rear one is gone.
+    std::string rear = Flaser(180, 3.0, 0, 1.05);
+    rear.replace(0, 6, "RLASER");
+    rear.resize(rear.size() / 2);
+    rear += "\n";
+    auto reader =
+        OpenLog(TempFile("skip3.log", Flaser(180, 3.0, 0, 1.0) + rear + Flaser(180, 3.0, 0, 2.0)));
+    EXPECT_EQ(reader->sensors().size(), 1u);
+    const auto issues = reader->TakeIssues();
+    ASSERT_EQ(issues.size(), 1u);
+    EXPECT_EQ(issues[0].line, 2u);
+    EXPECT_NE(issues[0].message.find("RLASER: no line of the second laser is usable"),
+              std::string::npos);
+  }
+  {
+    std::string hex = Flaser(180, 3.0, 0, 2.0);
+    hex.replace(hex.find(" 2.000000 host"), 9, " 0x64.4p0");
+    auto reader = OpenLog(TempFile("skip4.log", Flaser(180, 3.0, 0, 1.0) + hex));
+    Scan scan;
+    int scans = 0;
+    while (reader->Next(&scan)) ++scans;
+    EXPECT_EQ(scans, 1);
+    const auto issues = reader->TakeIssues();
+    ASSERT_EQ(issues.size(), 1u);
+    EXPECT_NE(issues[0].message.find("'0x64.4p0') is not a number"), std::string::npos)
+        << issues[0].message;
+  }
+}
+
 TEST(Io, NativeLogRoundTripAndErrors) {
   SensorConfig sensor;
   sensor.mount_x_m = 3.7;

@@ -63,6 +63,7 @@ class CarmenReader final : public LogReader {
       } else if (robot >= 0) {
         const std::string kind(fields_[0]);
         double t = 0;
+        scan->points.clear();  // layer 0 starts the scan
         if (!ParseRobotLaser(line_no, 0, scan, &t)) continue;
         scan->sensor = robot;
         line_ = line_no;
@@ -159,22 +160,32 @@ class CarmenReader final : public LogReader {
     return true;
   }
 
+  // A FLASER-layout line the second pass reads: its field count, poses, timestamp and ranges
+  // (what ParseFlaser() checks). Only such a line tells the laser and the saturation range.
   void SurveyFlaser(Surveyed* laser, double* max_range) {
     long n = 0;
-    if (fields_.size() <= 2 || !ParseInt(fields_[1], &n) || n <= 1 ||
-        fields_.size() < std::size_t(n) + 11) {
+    double t;
+    if (fields_.size() <= 2 || !ParseInt(fields_[1], &n) || n <= 1 || n > 100000 ||
+        fields_.size() != std::size_t(n) + 11 || !ParseDouble(fields_[std::size_t(n) + 8], &t)) {
       return;
     }
-    if (!laser->found && FlaserPoses(n, &laser->laser, &laser->odometry)) {
+    Pose2D laser_pose, odometry;
+    if (!FlaserPoses(n, &laser_pose, &odometry)) return;
+    double line_max = 0.0;
+    for (long i = 0; i < n; ++i) {
+      double r;
+      if (!ParseDouble(fields_[2 + i], &r)) return;
+      if (std::isfinite(r)) line_max = std::max(line_max, r);
+    }
+    *max_range = std::max(*max_range, line_max);
+    if (!laser->found) {
+      laser->laser = laser_pose;
+      laser->odometry = odometry;
       laser->found = true;
       laser->sensor.layers = 1;
       laser->sensor.min_angle_deg = -90.0;
       laser->sensor.angular_resolution_deg = FlaserResolutionDeg(n);
       laser->sensor.max_angle_deg = -90.0 + double(n - 1) * laser->sensor.angular_resolution_deg;
-    }
-    for (long i = 0; i < n; ++i) {
-      double r;
-      if (ParseDouble(fields_[2 + i], &r) && std::isfinite(r)) *max_range = std::max(*max_range, r);
     }
   }
 
@@ -216,12 +227,16 @@ class CarmenReader final : public LogReader {
     std::string line;
     double max_range = 0.0;
     Surveyed lasers[2];
+    std::size_t line_no = 0, second_line = 0;
     while (std::getline(in_, line)) {
+      ++line_no;
       if (IsCommentOrBlank(line)) continue;
       SplitFields(line, &fields_);
       const std::string_view name = fields_[0];
-      if (second_ == kNoSecond && name == "RLASER") second_ = kSecondRlaser;
-      if (second_ == kNoSecond && name == "ROBOTLASER2") second_ = kSecondRobotLaser;
+      if (second_ == kNoSecond && (name == "RLASER" || name == "ROBOTLASER2")) {
+        second_ = name == "RLASER" ? kSecondRlaser : kSecondRobotLaser;
+        second_line = line_no;
+      }
       const int flaser = FlaserSensor(name), robot = RobotLaserSensor(name);
       if (flaser >= 0) SurveyFlaser(&lasers[flaser], &max_range);
       if (robot >= 0) SurveyRobotLaser(&lasers[robot], &max_range);
@@ -251,6 +266,12 @@ class CarmenReader final : public LogReader {
       }
       sensor_ = rig_.front();
       return;
+    }
+    if (second_ != kNoSecond) {
+      const char* name = second_ == kSecondRlaser ? "RLASER" : "ROBOTLASER2";
+      Report(second_line, std::string(name) +
+                              ": no line of the second laser is usable (from here " +
+                              "on); the log is read as one laser, without its " + name + " lines");
     }
     second_ = kNoSecond;
     sensor_ = lasers[0].sensor;
@@ -284,10 +305,12 @@ class CarmenReader final : public LogReader {
       return false;
     }
     const std::size_t expected = std::size_t(n) + 11;
-    if (fields_.size() < expected) {
-      Report(line_no, "FLASER: truncated line: " + std::to_string(fields_.size()) +
-                          " fields, expected " + std::to_string(expected) + " for " +
-                          std::to_string(n) + " beams; line skipped");
+    if (fields_.size() != expected) {
+      Report(line_no, Excerpt(fields_[0]) + ": " +
+                          (fields_.size() < expected ? "truncated line: " : "too many fields: ") +
+                          std::to_string(fields_.size()) + " fields, expected " +
+                          std::to_string(expected) + " for " + std::to_string(n) +
+                          " beams; line skipped");
       return false;
     }
     double x, y, theta, t;
@@ -301,7 +324,10 @@ class CarmenReader final : public LogReader {
     scan->points.resize(n);
     for (long i = 0; i < n; ++i) {
       double r;
-      if (!ParseNumber(line_no, 2 + i, "range", &r)) return false;
+      if (!ParseNumber(line_no, 2 + i, "range", &r)) {
+        scan->points.clear();  // a skipped line leaves nothing for the next one
+        return false;
+      }
       ScanPoint& p = scan->points[i];
       p.layer = 0;
       p.angle_rad = float(-M_PI / 2 + double(i) * res);
@@ -315,6 +341,7 @@ class CarmenReader final : public LogReader {
       if (!ParseNumber(line_no, n + 5, "odom_x", &odometry[0]) ||
           !ParseNumber(line_no, n + 6, "odom_y", &odometry[1]) ||
           !ParseNumber(line_no, n + 7, "odom_theta", &odometry[2])) {
+        scan->points.clear();
         return false;
       }
       scan->pose = {odometry[0], odometry[1], odometry[2]};

@@ -23,11 +23,12 @@ inline void SplitFields(std::string_view line, std::vector<std::string_view>* fi
   }
 }
 
-// Parses a whole field as a double ("nan" and "inf" included). Returns false when the field is
-// not entirely a number.
+// Parses a whole field as a decimal double ("nan" and "inf" included; not strtod's hexadecimal
+// form). Returns false when the field is not entirely a number.
 inline bool ParseDouble(std::string_view field, double* value) {
   char buffer[64];
   if (field.empty() || field.size() >= sizeof buffer) return false;
+  if (field.find_first_of("xX") != std::string_view::npos) return false;
   field.copy(buffer, field.size());
   buffer[field.size()] = '\0';
   char* end = nullptr;
