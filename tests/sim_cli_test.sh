@@ -29,6 +29,14 @@ grep -q '"format": "freespace-truth"' "$out/sim/truth.json" || fail "truth forma
 grep -q "cell accuracy" "$out/eval.txt" || fail "eval prints no accuracy"
 grep -q '"per_scan"' "$out/eval/eval.json" || fail "eval.json has no per_scan"
 [ "$(grep -c '"coverage_seen"' "$out/eval/eval.json")" -ge 26 ] || fail "eval.json per-scan"
+grep -q '"malformed_lines": 0' "$out/eval/eval.json" || fail "eval.json malformed_lines"
+# A malformed last line: warned about and counted, like any other.
+{ cat "$out/sim/sim.fslog"; echo "SCAN 99.5 garbage"; } >"$out/bad-tail.fslog"
+"$bin" eval --log "$out/bad-tail.fslog" --truth "$out/sim/truth.json" --out "$out/eval-tail" \
+  >"$out/eval-tail.txt" 2>&1 || fail "eval with a malformed last line failed"
+grep -q "bad-tail.fslog:$(wc -l <"$out/bad-tail.fslog"): " "$out/eval-tail.txt" \
+  || fail "malformed last line not reported: $(cat "$out/eval-tail.txt")"
+grep -q '"malformed_lines": 1' "$out/eval-tail/eval.json" || fail "malformed last line not counted"
 
 # A truth of another drive: exit 2 and a message saying so.
 "$bin" simulate --scenario parking --duration 0.5 --seed 5 --out "$out/short" 2>/dev/null

@@ -121,10 +121,16 @@ int Eval(const EvalOptions& options) {
   try {
     CycleReader cycles(*reader, config.sensor_count());
     std::vector<Scan> cycle;
-    while (cycles.Next(&cycle)) {
+    const auto report_issues = [&] {  // after every read, the last (which found none) too
       for (const LogIssue& issue : reader->TakeIssues()) {
         std::cerr << "freespace eval: warning: " << issue.ToString() << "\n";
+        ++context.malformed_lines;
       }
+    };
+    for (;;) {
+      const bool more = cycles.Next(&cycle);
+      report_issues();
+      if (!more) break;
       context.scans_read += long(cycle.size());
       const Result& r = estimator->ProcessCycle(cycle);
       if (r.status == ScanStatus::kRejected) {

@@ -25,6 +25,7 @@ nlohmann::json QualityReport(const ReportContext& c, const MetricsSeries& metric
           {"backend", c.backend},
           {"scans_read", c.scans_read},
           {"rejected", c.rejected},
+          {"malformed_lines", c.malformed_lines},
           {"definitions", "docs/metrics.md"},
           {"summary", metrics.Summary()},
           {"stage_us", times.Summary()},

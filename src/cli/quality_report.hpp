@@ -19,6 +19,7 @@ struct ReportContext {
   std::string backend;
   long scans_read = 0;
   long rejected = 0;
+  long malformed_lines = 0;  // the log's lines the reader reported and skipped
 };
 
 nlohmann::json QualityReport(const ReportContext& context, const MetricsSeries& metrics,
