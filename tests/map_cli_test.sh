@@ -26,7 +26,7 @@ check_map() {
   grep -qx "negate: 0" "$yaml" || fail "$yaml negate"
   grep -qE '^origin: \[-?[0-9.e+-]+, -?[0-9.e+-]+, -?[0-9.e+-]+\]$' "$yaml" || fail "$yaml origin"
   local image
-  image=$(sed -n 's/^image: //p' "$yaml")
+  image=$(sed -n 's/^image: "\(.*\)"$/\1/p' "$yaml")
   local pgm
   pgm="$(dirname "$yaml")/$image"
   [ -f "$pgm" ] || fail "$yaml names image $image, not found beside it"

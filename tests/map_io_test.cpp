@@ -81,6 +81,17 @@ TEST_F(MapFilesTest, YamlHasEveryMapServerKey) {
   EXPECT_EQ(yaml["mode"].as<std::string>(), "trinary");
 }
 
+// The image's name as written, whatever it holds: a '#' (a comment to YAML), ": ", quotes, a
+// backslash, a tab.
+TEST_F(MapFilesTest, TheImageNameReadsBackWhateverItHolds) {
+  for (const std::string name : {"#1 map", "a: b", "say \"hi\"", "back\\slash", "tab\there"}) {
+    const MapFiles files = SaveMap(map_.View(), (dir_ / name).string());
+    const YAML::Node yaml = YAML::LoadFile(files.yaml);
+    EXPECT_EQ(yaml["image"].as<std::string>(), name + ".pgm") << ReadAll(files.yaml);
+    EXPECT_TRUE(std::filesystem::exists(dir_ / (name + ".pgm")));
+  }
+}
+
 TEST_F(MapFilesTest, PgmIsBinaryEightBitNorthFirst) {
   const std::string pgm = ReadAll(files_.pgm);
   const std::string header = "P5\n# freespace map, 0.2 m/pixel\n3 2\n255\n";

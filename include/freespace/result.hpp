@@ -132,8 +132,9 @@ struct MapView {
   int width = 0;
   int height = 0;
   double resolution_m = 0.0;
-  Vec2 origin;                         // world position of the corner of cell (0, 0)
-  double map_yaw = 0.0;                // rotation of the map's axes (0 but for alignment rotate)
+  Vec2 origin;           // world position of the corner of cell (0, 0)
+  double map_yaw = 0.0;  // rotation of the map's axes (Result::map_yaw: 0 but for alignment rotate
+                         // and alignment.scan_match)
   const LogOdds* log_odds = nullptr;   // fused log-odds (kLogOddsScale units)
   const std::uint8_t* free = nullptr;  // 1 where classified free after opening, else 0
 
