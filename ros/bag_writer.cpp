@@ -6,6 +6,7 @@
 #include <rosbag/bag.h>
 
 #include <algorithm>
+#include <memory>
 
 #include "freespace/errors.hpp"
 #include "freespace/map_io.hpp"
@@ -22,11 +23,14 @@ class BagResultWriter::Impl {
         map_topic_(prefix + "/map"),
         polygon_topic_(prefix + "/polygon") {
     try {
-      bag_.open(path, rosbag::bagmode::Write);
+      bag_->open(path, rosbag::bagmode::Write);
     } catch (const rosbag::BagException& e) {
-      throw InputError(path + ": cannot create the bag: " + e.what());
+      Abandon();
+      throw OutputError(path + ": cannot create the bag: " + e.what());
     }
   }
+
+  ~Impl() { Abandon(); }
 
   void Write(const Result& r, const MapView& map) {
     if (!(r.timestamp_s >= 0)) {
@@ -57,18 +61,36 @@ class BagResultWriter::Impl {
       polygon_.polygon.points[i].z = 0.0f;
     }
     try {
-      bag_.write(map_topic_, record, grid_);
-      bag_.write(polygon_topic_, record, polygon_);
+      bag_->write(map_topic_, record, grid_);
+      bag_->write(polygon_topic_, record, polygon_);
     } catch (const rosbag::BagException& e) {
-      throw InputError(path_ + ": write failed: " + e.what());
+      throw OutputError(path_ + ": write failed: " + e.what());
     }
   }
 
-  void Close() { bag_.close(); }
+  void Close() {
+    try {
+      bag_->close();
+    } catch (const rosbag::BagException& e) {
+      throw OutputError(path_ + ": write failed: " + e.what());
+    }
+  }
 
  private:
+  // Closes the bag where that can still fail quietly. A bag that failed to close (a full disk)
+  // throws again from rosbag::Bag's destructor, which would end the program: it is then left
+  // undestroyed, its error reported already.
+  void Abandon() noexcept {
+    if (bag_ == nullptr) return;
+    try {
+      bag_->close();
+    } catch (const std::exception&) {
+      static_cast<void>(bag_.release());
+    }
+  }
+
   std::string path_, frame_id_, map_topic_, polygon_topic_;
-  rosbag::Bag bag_;
+  std::unique_ptr<rosbag::Bag> bag_ = std::make_unique<rosbag::Bag>();
   nav_msgs::OccupancyGrid grid_;
   geometry_msgs::PolygonStamped polygon_;
 };

@@ -8,9 +8,12 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/LaserScan.h>
+#include <sys/resource.h>
 #include <tf2_msgs/TFMessage.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -245,6 +248,44 @@ TEST(RosBagIo, OutBagHoldsAGridAndAPolygonPerScan) {
   EXPECT_EQ(n, 12);
   rosbag::Bag cli_bag(dir + "/out.bag", rosbag::bagmode::Read);
   EXPECT_EQ(rosbag::View(cli_bag).size(), 24u);
+}
+
+// A bag that cannot be written whole: the failure is an OutputError naming the file, and
+// destroying the writer afterwards (whose bag then fails to close again, which rosbag's own
+// destructor would throw from) does not end the program. On /dev/full the bag's header fails;
+// under a file size limit of 256 kB (RLIMIT_FSIZE, SIGXFSZ ignored) a write or the close does.
+TEST(RosBagIo, AFailedWriteIsAnOutputErrorAndTheWriterStillGoes) {
+  Config config = test::SmallConfig(300, 300, 0.2);
+  Estimator estimator(config);
+  const Result& r = estimator.Process(test::MakeScan(0.1, {0, 0, 0}, {0.0, 1.0}, {5.0, 5.0}));
+  const auto write = [&](const std::string& path) {
+    std::string message;
+    std::unique_ptr<ros_bag::BagResultWriter> writer;
+    try {
+      writer = std::make_unique<ros_bag::BagResultWriter>(path, "odom");
+      for (int k = 0; k < 20; ++k) writer->Write(r, estimator.map());  // 90 kB each
+      writer->Close();
+    } catch (const OutputError& e) {
+      message = e.what();
+    }
+    writer.reset();
+    return message;
+  };
+  if (access("/dev/full", W_OK) == 0) {
+    const std::string message = write("/dev/full");
+    EXPECT_NE(message.find("/dev/full: cannot create the bag"), std::string::npos) << message;
+  }
+  rlimit before;
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &before), 0);
+  rlimit limit = before;
+  limit.rlim_cur = 256 * 1024;
+  const auto handler = std::signal(SIGXFSZ, SIG_IGN);
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &limit), 0);
+  const std::string path = TempPath("limited.bag");
+  const std::string message = write(path);
+  setrlimit(RLIMIT_FSIZE, &before);
+  std::signal(SIGXFSZ, handler);
+  EXPECT_NE(message.find(path + ": write failed"), std::string::npos) << message;
 }
 
 }  // namespace

@@ -58,7 +58,8 @@ std::unique_ptr<LogReader> OpenRosBag(const std::string& path, const BagOptions&
 // `topic_prefix`/polygon, both stamped with the scan's time, in `frame_id`.
 class BagResultWriter {
  public:
-  // Throws InputError when the bag cannot be created.
+  // Throws OutputError when the bag cannot be created; Write() and Close() when a write fails
+  // (InputError from Write() for a scan before time 0, which a ROS time cannot hold).
   BagResultWriter(const std::string& path, const std::string& frame_id,
                   const std::string& topic_prefix = "/freespace");
   ~BagResultWriter();
