@@ -171,14 +171,30 @@ TEST(KittiSequence, FramesComeAtThePosesOfTheMatrices) {
   }
 }
 
+// Without times.txt or calib.txt the reader assumes them, and notes it: notes, not skipped
+// input. A calib.txt without a usable Tr line is reported as input that could not be used.
 TEST(KittiSequence, FramesInTheFolderWithoutTimesOrCalibAreReported) {
   const std::string dir = WriteSequence("flat", {false, false, false});
   auto reader = OpenLog(dir);
   EXPECT_EQ(reader->sensor().mount_x_m, 0.0);
-  const std::string issues = Issues(*reader);
+  const std::vector<LogIssue> notes = reader->TakeIssues();
+  std::string issues;
+  for (const LogIssue& issue : notes) {
+    issues += issue.ToString() + "\n";
+    EXPECT_TRUE(issue.note) << issue.ToString();
+  }
   EXPECT_NE(issues.find("no times.txt: frame n is taken at n * 0.1 s"), std::string::npos);
   EXPECT_NE(issues.find("no calib.txt: the Velodyne is taken at the left camera"),
             std::string::npos);
+  std::ofstream(dir + "/calib.txt") << "P0: 1 0 0 0 0 1 0 0 0 0 1 0\n";
+  auto no_tr = OpenLog(dir);
+  bool reported = false;
+  for (const LogIssue& issue : no_tr->TakeIssues()) {
+    if (issue.message.find("calib.txt has no Tr: line") == std::string::npos) continue;
+    reported = true;
+    EXPECT_FALSE(issue.note);
+  }
+  EXPECT_TRUE(reported);
   const std::vector<Scan> scans = ReadAll(*reader);
   ASSERT_EQ(scans.size(), 3u);
   EXPECT_DOUBLE_EQ(scans[2].timestamp_s, 0.2);

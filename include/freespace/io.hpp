@@ -16,11 +16,14 @@
 
 namespace freespace {
 
-// A part of the input that could not be used: where, and why.
+// A part of the input that could not be used: where, and why. Or, with `note`, what the reader
+// assumed for a part the input does not have (a KITTI sequence without times.txt or calib.txt):
+// nothing was left out, and a note is no malformed line.
 struct LogIssue {
   std::string file;
   std::size_t line = 0;  // 1-based; 0 when it concerns the whole file
   std::string message;
+  bool note = false;
   std::string ToString() const;  // "file:line: message"
 };
 
@@ -67,6 +70,7 @@ class LogReader {
  protected:
   LogReader(std::string path, LogFormat format) : path_(std::move(path)), format_(format) {}
   void Report(std::size_t line, std::string message);
+  void Note(std::size_t line, std::string message);  // an issue with `note` set
 
   std::string path_;
   LogFormat format_;

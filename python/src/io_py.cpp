@@ -47,10 +47,13 @@ void BindIo(py::module_& m) {
           "issues",
           [](PyLogReader& r) {
             std::vector<std::string> out;
-            for (const LogIssue& i : r.reader->TakeIssues()) out.push_back(i.ToString());
+            for (const LogIssue& i : r.reader->TakeIssues()) {
+              out.push_back((i.note ? "note: " : "") + i.ToString());
+            }
             return out;
           },
-          "The issues (\"file:line: message\") found since the last call.")
+          "The issues (\"file:line: message\") found since the last call; what the reader "
+          "assumed for a part the input lacks starts with \"note: \".")
       .def_property_readonly(
           "sensor",
           [](const PyLogReader& r) -> py::object {

@@ -123,8 +123,9 @@ int Eval(const EvalOptions& options) {
     std::vector<Scan> cycle;
     const auto report_issues = [&] {  // after every read, the last (which found none) too
       for (const LogIssue& issue : reader->TakeIssues()) {
-        std::cerr << "freespace eval: warning: " << issue.ToString() << "\n";
-        ++context.malformed_lines;
+        std::cerr << "freespace eval: " << (issue.note ? "note: " : "warning: ") << issue.ToString()
+                  << "\n";
+        if (!issue.note) ++context.malformed_lines;
       }
     };
     for (;;) {

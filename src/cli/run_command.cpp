@@ -202,9 +202,14 @@ class LogRun {
     return true;
   }
 
-  // The reader's malformed lines; true when --strict stops the run.
+  // The reader's malformed lines; true when --strict stops the run. A note (what the reader
+  // assumed for what the input lacks) is printed, neither counted nor stopped on.
   bool ReportIssues() {
     for (const LogIssue& issue : reader_->TakeIssues()) {
+      if (issue.note) {
+        std::cerr << "\nnote: " << issue.ToString() << "\n";
+        continue;
+      }
       ++tally_.malformed;
       warnings_.Print("input", issue.ToString());
       if (StopsHere("bad input")) return true;

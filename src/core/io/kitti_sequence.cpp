@@ -204,7 +204,7 @@ void KittiSequenceReader::ReadPoses() {
 void KittiSequenceReader::ReadTimes() {
   std::ifstream in(fs::path(path_) / "times.txt");
   if (!in) {
-    Report(0, "no times.txt: frame n is taken at n * 0.1 s (the Velodyne's 10 Hz)");
+    Note(0, "no times.txt: frame n is taken at n * 0.1 s (the Velodyne's 10 Hz)");
     return;
   }
   has_times_ = true;
@@ -227,7 +227,8 @@ void KittiSequenceReader::ReadTimes() {
 // the vehicle frame. Without it the Velodyne is taken at the camera, facing forward.
 void KittiSequenceReader::ReadMount() {
   std::ifstream in(fs::path(path_) / "calib.txt");
-  std::string text, why = in ? "calib.txt has no Tr: line" : "no calib.txt";
+  const bool found = bool(in);
+  std::string text, why = found ? "calib.txt has no Tr: line" : "no calib.txt";
   double m[12];
   while (std::getline(in, text)) {
     if (text.rfind("Tr:", 0) != 0) continue;
@@ -240,7 +241,13 @@ void KittiSequenceReader::ReadMount() {
     why = "calib.txt Tr: " + why;
     break;
   }
-  Report(0, why + ": the Velodyne is taken at the left camera, facing forward (mount zero)");
+  const std::string assumed =
+      ": the Velodyne is taken at the left camera, facing forward (mount zero)";
+  if (found) {
+    Report(0, why + assumed);  // a calib.txt that cannot be used
+  } else {
+    Note(0, why + assumed);
+  }
 }
 
 }  // namespace

@@ -24,6 +24,10 @@ void LogReader::Report(std::size_t line, std::string message) {
   issues_.push_back({path_, line, std::move(message)});
 }
 
+void LogReader::Note(std::size_t line, std::string message) {
+  issues_.push_back({path_, line, std::move(message), true});
+}
+
 const char* ToString(LogFormat format) {
   switch (format) {
     case LogFormat::kAuto:
