@@ -292,6 +292,31 @@ TEST(Io, KittiFrameIsCutIntoAScalaLikeScan) {
   EXPECT_TRUE(r.polygon_contains_vehicle);
 }
 
+// Frames that give no Velodyne point say so: an empty file, records that lie beyond any
+// Velodyne's reach (a file of another kind named .bin), points in no layer of the cut.
+TEST(Io, KittiFramesWithoutPointsAreReported) {
+  const auto issues = [](const std::string& name, const std::vector<float>& values) {
+    const std::string path = ::testing::TempDir() + "/" + name;
+    std::ofstream(path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(values.data()),
+               std::streamsize(values.size() * sizeof(float)));
+    auto reader = OpenLog(path);
+    Scan scan;
+    EXPECT_TRUE(reader->Next(&scan));
+    std::string all;
+    for (const LogIssue& issue : reader->TakeIssues()) all += issue.ToString() + "\n";
+    return all;
+  };
+  EXPECT_NE(issues("empty.bin", {}).find("empty.bin: no point (0 bytes)"), std::string::npos);
+  const std::string far = issues("far.bin", {10, 0, 0, 0, 5000, 0, 0, 0, 0, 3e11f, 1, 0});
+  EXPECT_NE(far.find("2 of 3 records more than 1 km from the sensor ignored"), std::string::npos)
+      << far;
+  EXPECT_EQ(far.find("no point of"), std::string::npos) << far;  // the one at 10 m is in a layer
+  const std::string high = issues("high.bin", {10, 0, 5, 0});    // 26 deg up: in no layer
+  EXPECT_NE(high.find("no point of its 1 lies in a layer of the cut"), std::string::npos) << high;
+  EXPECT_EQ(issues("good.bin", {10, 0, 0, 0, 12, 1, 0.05f, 0}), "");
+}
+
 // A 64 MB frame (the recorded one over and over, then one nearer point straight ahead in the
 // layer at +0.4 deg) is read in chunks: the heap's peak while reading stays far below the
 // file's size, and the scan is the recorded frame's with that one beam nearer.

@@ -28,13 +28,16 @@ SensorConfig KittiSensor(const LogOptions& options, const std::string& path) {
   return sensor;
 }
 
+// A coordinate farther than this from the sensor is no Velodyne point (HDL-64E: 120 m).
+constexpr double kFarM = 1000.0;
+
 bool CutVelodyneFrame(const std::string& path, LayerCut* cut, std::vector<std::string>* problems) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return false;
   // The file is read in chunks of whole records, never held at once (frames can be large).
   std::vector<char> chunk(16 * 4096);
   std::uint64_t size = 0;
-  std::size_t not_finite = 0;
+  std::size_t not_finite = 0, far = 0;
   while (in) {
     in.read(chunk.data(), std::streamsize(chunk.size()));
     const std::size_t got = std::size_t(in.gcount());
@@ -44,6 +47,10 @@ bool CutVelodyneFrame(const std::string& path, LayerCut* cut, std::vector<std::s
       std::memcpy(v, chunk.data() + i, 16);
       if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) {
         ++not_finite;
+        continue;
+      }
+      if (std::abs(v[0]) > kFarM || std::abs(v[1]) > kFarM || std::abs(v[2]) > kFarM) {
+        ++far;
         continue;
       }
       cut->Add(v[0], v[1], v[2]);
@@ -60,6 +67,17 @@ bool CutVelodyneFrame(const std::string& path, LayerCut* cut, std::vector<std::s
   if (not_finite > 0) {
     problems->push_back(std::to_string(not_finite) +
                         " records with non-finite coordinates ignored");
+  }
+  if (far > 0) {
+    problems->push_back(std::to_string(far) + " of " + std::to_string(size / 16) +
+                        " records more than 1 km from the sensor ignored (a Velodyne frame " +
+                        "holds none: is this one?)");
+  }
+  if (size < 16) {
+    problems->push_back("no point (" + std::to_string(size) + " bytes)");
+  } else if (cut->used() == 0) {
+    problems->push_back("no point of its " + std::to_string(size / 16) +
+                        " lies in a layer of the cut (a scan of beams without echo)");
   }
   return true;
 }

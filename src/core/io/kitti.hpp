@@ -17,7 +17,8 @@ SensorConfig KittiSensor(const LogOptions& options, const std::string& path);
 
 // Adds every record of the Velodyne frame `path` (float32 x y z reflectance) to `cut`, reading
 // it in chunks. Returns false when the file cannot be opened; what it had to ignore (a size
-// that is not whole records, non-finite coordinates) goes to `problems`.
+// that is not whole records, non-finite coordinates, coordinates beyond 1 km) and a frame that
+// gives no point (an empty file, no point in any layer) go to `problems`.
 bool CutVelodyneFrame(const std::string& path, LayerCut* cut, std::vector<std::string>* problems);
 
 }  // namespace freespace::io
