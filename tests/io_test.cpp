@@ -197,6 +197,21 @@ TEST(Io, CarmenLinesSkippedLeaveNothingBehind) {
               std::string::npos);
   }
   {
+    // A last line without its newline may be a file cut short: read, with a note saying so.
+    std::string cut = Flaser(180, 3.0, 0, 2.0);
+    cut.pop_back();
+    auto reader = OpenLog(TempFile("cut.log", Flaser(180, 3.0, 0, 1.0) + cut));
+    Scan scan;
+    int scans = 0;
+    while (reader->Next(&scan)) ++scans;
+    EXPECT_EQ(scans, 2);
+    const auto issues = reader->TakeIssues();
+    ASSERT_EQ(issues.size(), 1u);
+    EXPECT_TRUE(issues[0].note);
+    EXPECT_EQ(issues[0].line, 2u);
+    EXPECT_NE(issues[0].message.find("without a newline"), std::string::npos);
+  }
+  {
     std::string hex = Flaser(180, 3.0, 0, 2.0);
     hex.replace(hex.find(" 2.000000 host"), 9, " 0x64.4p0");
     auto reader = OpenLog(TempFile("skip4.log", Flaser(180, 3.0, 0, 1.0) + hex));

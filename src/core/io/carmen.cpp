@@ -135,6 +135,7 @@ class CarmenReader final : public LogReader {
       ++lines_read_;
       if (IsCommentOrBlank(*line)) continue;
       *line_no = lines_read_;
+      if (in_.eof()) Note(lines_read_, kNoFinalNewline);
       return true;
     }
     return false;

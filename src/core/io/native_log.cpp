@@ -85,7 +85,9 @@ class NativeReader final : public LogReader {
   bool NextLine(std::string* line) {
     while (std::getline(in_, *line)) {
       ++line_no_;
-      if (!IsCommentOrBlank(*line)) return true;
+      if (IsCommentOrBlank(*line)) continue;
+      if (in_.eof()) Note(line_no_, kNoFinalNewline);
+      return true;
     }
     return false;
   }

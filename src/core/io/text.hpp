@@ -73,6 +73,10 @@ inline std::string Excerpt(std::string_view text, std::size_t max_bytes = 40) {
   return out;
 }
 
+// The note on a last line without a newline: a file cut short while written ends so.
+inline constexpr const char* kNoFinalNewline =
+    "the last line ends without a newline (a file cut short?); read as it is";
+
 inline bool IsCommentOrBlank(std::string_view line) {
   for (const char c : line) {
     if (c == '#') return true;
