@@ -176,6 +176,13 @@ TEST_P(EstimatorTest, BadScansAreRejectedWithAMessageAndChangeNothing) {
   EXPECT_EQ(jitter.status, ScanStatus::kOk);
   EXPECT_TRUE(jitter.timestamp_jitter);
   EXPECT_NE(jitter.message.find("clock jitter"), std::string::npos);
+  // A step back on a scan without a usable echo: the message says both.
+  const Result& both = estimator->Process(WallScan(1.05, -45, 45));
+  EXPECT_EQ(both.status, ScanStatus::kNoSensorUpdate);
+  EXPECT_TRUE(both.timestamp_jitter);
+  EXPECT_NE(both.message.find("clock jitter"), std::string::npos) << both.message;
+  EXPECT_NE(both.message.find("no usable echo: no sensor update"), std::string::npos)
+      << both.message;
 }
 
 TEST_P(EstimatorTest, NoHeapAllocationPerScanOnceWarm) {

@@ -70,7 +70,8 @@ struct Result {
   double timestamp_s = 0.0;
   ScanStatus status = ScanStatus::kOk;
   RejectReason reject_reason = RejectReason::kNone;
-  std::string message;            // why a scan was rejected or not used; empty when kOk
+  std::string message;            // why a scan was rejected or not used, and what was odd about
+                                  // it (clock jitter, a stall), joined by "; "; else empty
   bool map_reset = false;         // the map was (re)started at this scan (first scan, or a jump)
   bool timestamp_jitter = false;  // timestamp not after the previous scan's, but within
                                   // alignment.time_jitter_s: used without a speed sample

@@ -209,7 +209,7 @@ bool Estimator::Impl::Align(const Scan& scan) {
                   "timestamp %.6f s is not after the previous scan's %.6f s: clock jitter, used "
                   "without a speed sample",
                   scan.timestamp_s, previous_t);
-    r.message.assign(text);
+    AddMessage(&r, text);
   }
   r.clock_stalled = step.clock_stalled;
   r.stall_detected = step.stall_detected;
@@ -218,7 +218,7 @@ bool Estimator::Impl::Align(const Scan& scan) {
                   "the clock has stalled: %d scans in a row stamped %.6f s; until it advances, "
                   "poses are used without a jump test and give no speed",
                   kStalledClockScans, scan.timestamp_s);
-    r.message.assign(text);
+    AddMessage(&r, text);
   }
   const Pose2D before = last_sensor_;
   last_sensor_ = r.sensor_pose;
@@ -261,8 +261,8 @@ void Estimator::Impl::UpdateMap(bool has_update, const Scan& scan) {
     const std::vector<std::int32_t>& near = MoverCells(none, scan.timestamp_s);
     backend_->SetFaces(near.data(), int(near.size()), nullptr, 0);
     r.status = ScanStatus::kNoSensorUpdate;
-    r.message.assign(scan.points.empty() ? "empty scan: no sensor update"
-                                         : "no usable echo: no sensor update");
+    AddMessage(&r, scan.points.empty() ? "empty scan: no sensor update"
+                                       : "no usable echo: no sensor update");
   }
 }
 

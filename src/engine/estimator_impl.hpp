@@ -33,6 +33,13 @@ inline Pose2D SensorPose(const Pose2D& pose, const SensorConfig& s) {
   return sensor;
 }
 
+// Adds `text` to the result's message: one scan can be both a clock's jitter and a scan with
+// no usable echo, and each is said.
+inline void AddMessage(Result* r, const char* text) {
+  if (!r->message.empty()) r->message += "; ";
+  r->message += text;
+}
+
 class Estimator::Impl {
  public:
   explicit Impl(const Config& config);

@@ -332,7 +332,7 @@ const Result& Estimator::Impl::ProcessCycle(const Scan* scans, int count) {
   UpdateMapCycle(scans);
   if (!has_update) {
     r.status = ScanStatus::kNoSensorUpdate;
-    r.message.assign("no usable echo in any scan of the cycle: no sensor update");
+    AddMessage(&r, "no usable echo in any scan of the cycle: no sensor update");
   }
   return Conclude(t_begin);
 }
