@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <random>
 
@@ -94,6 +95,34 @@ TEST(TextFile, ADirectoryInTheWayIsAnErrorNamingTheFile) {
 
 // `freespace run` keeps its stage times in fixed memory: the histogram's quantiles stay within
 // half a bin (0.5 %) of the exact ones over a long, spread-out series.
+// An AVI file is written whole when its RIFF header's size is the file's: one cut short (a full
+// disk, which OpenCV's writer does not report) or of another kind is an error naming it.
+TEST(TextFile, AnAviCutShortIsAnErrorNamingTheFile) {
+  const std::string path = ::testing::TempDir() + "/cut.avi";
+  const auto write = [&](const char* riff, std::uint32_t said, const char* kind, int body) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(riff, 4);
+    for (int k = 0; k < 4; ++k) out.put(char((said >> (8 * k)) & 0xff));
+    out.write(kind, 4);
+    out << std::string(std::size_t(body), 'x');
+  };
+  write("RIFF", 4 + 1000, "AVI ", 1000);
+  EXPECT_NO_THROW(CheckAviWritten(path));
+  write("RIFF", 4 + 5000, "AVI ", 1000);
+  try {
+    CheckAviWritten(path);
+    ADD_FAILURE() << "a cut AVI passed";
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ": write failed: 1012 bytes, its header says 5012"),
+              std::string::npos)
+        << e.what();
+  }
+  write("RIFX", 4 + 1000, "AVI ", 1000);
+  EXPECT_THROW(CheckAviWritten(path), OutputError);
+  write("RIFF", 4 + 1000, "WAVE", 1000);
+  EXPECT_THROW(CheckAviWritten(path), OutputError);
+}
+
 TEST(StageHistogram, QuantilesMatchTheExactOnesWithinHalfABin) {
   std::mt19937 random(7);
   std::lognormal_distribution<double> times(std::log(800.0), 0.6);

@@ -171,9 +171,9 @@ class DemoRun {
     }
     if (!options_.quiet && tty_) std::fprintf(stderr, "\r%40s\r", "");
     if (video_.isOpened()) {
-      // OpenCV's writer reports no write errors: the file must at least exist with data.
+      // OpenCV's writer reports no write errors: the file must be as long as its header says.
       video_.release();
-      CheckWritten(options_.out + "/demo.avi");
+      CheckAviWritten(options_.out + "/demo.avi");
     }
     polygons_->Close();
     writer_->Close();

@@ -2,8 +2,10 @@
 #include "output/text_file.hpp"
 
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "freespace/errors.hpp"
 
@@ -49,6 +51,26 @@ void CheckWritten(const std::string& path) {
   const auto size = regular ? std::filesystem::file_size(path, error) : 0;
   if (!regular || error || size == 0) {
     throw OutputError(path + ": not written" + (error ? ": " + error.message() : std::string()));
+  }
+}
+
+void CheckAviWritten(const std::string& path) {
+  CheckWritten(path);
+  // RIFF: "RIFF", the size of what follows (little-endian uint32, set when the writer closes),
+  // "AVI ". A file cut short (a full disk) is smaller than its header says.
+  std::ifstream in(path, std::ios::binary);
+  unsigned char head[12] = {};
+  in.read(reinterpret_cast<char*>(head), sizeof head);
+  const std::uint64_t said = std::uint64_t(head[4]) | std::uint64_t(head[5]) << 8 |
+                             std::uint64_t(head[6]) << 16 | std::uint64_t(head[7]) << 24;
+  const std::uint64_t size = std::filesystem::file_size(path);
+  if (!in || std::memcmp(head, "RIFF", 4) != 0 || std::memcmp(head + 8, "AVI ", 4) != 0) {
+    throw OutputError(path + ": write failed: not an AVI file (" + std::to_string(size) +
+                      " bytes)");
+  }
+  if (said + 8 != size) {
+    throw OutputError(path + ": write failed: " + std::to_string(size) +
+                      " bytes, its header says " + std::to_string(said + 8) + " (a full disk?)");
   }
 }
 

@@ -34,5 +34,8 @@ void WriteTextFile(const std::string& path, std::string_view text);
 // Throws OutputError when `path` is not a non-empty regular file (a writer that reports no
 // errors of its own, such as OpenCV's video writer, checked after it is closed).
 void CheckWritten(const std::string& path);
+// CheckWritten(), and an AVI file whose RIFF header's size is the file's (OpenCV's video writer
+// reports no write error: a file cut short by a full disk is caught here). Throws OutputError.
+void CheckAviWritten(const std::string& path);
 
 }  // namespace freespace
