@@ -188,10 +188,18 @@ class DemoRun {
     const bool snapshot =
         last || (options_.snapshot_every > 0 && index % options_.snapshot_every == 0);
     if (!frame && !snapshot) return false;
-    const Vec2 extent(config_.map.width_cells * config_.map.resolution_m,
-                      config_.map.height_cells * config_.map.resolution_m);
-    const std::vector<std::vector<Vec2>> outlines =
-        scorer_->Outlines(index, map.origin, map.origin + extent);
+    // The outlines that may cross the map: within the box round its corners (its axes turned by
+    // map_yaw with alignment rotate or scan_match).
+    const double w = map.width * map.resolution_m, h = map.height * map.resolution_m;
+    const double c = std::cos(map.map_yaw), s = std::sin(map.map_yaw);
+    Vec2 lo = map.origin, hi = map.origin;
+    for (const Vec2& corner : {Vec2(w, 0), Vec2(0, h), Vec2(w, h)}) {
+      const Vec2 at =
+          map.origin + Vec2(c * corner.x() - s * corner.y(), s * corner.x() + c * corner.y());
+      lo = lo.cwiseMin(at);
+      hi = hi.cwiseMax(at);
+    }
+    const std::vector<std::vector<Vec2>> outlines = scorer_->Outlines(index, lo, hi);
     const std::vector<ScannerRays> rays = CycleRays(cycle, r, 6);
     SnapshotOverlay overlay;
     overlay.truth = &outlines;
