@@ -353,6 +353,33 @@ TEST(RigLog, Version2CarriesTheRigAndEachScansSensor) {
   ASSERT_EQ(issues.size(), 1u);
   EXPECT_NE(issues[0].message.find("sensor index '5'"), std::string::npos) << issues[0].message;
 
+  // A second RIG line is refused (not silently the one that counts); a RIG line with one SENSOR
+  // is noted as unused.
+  std::ifstream whole(path);
+  std::string text((std::istreambuf_iterator<char>(whole)), std::istreambuf_iterator<char>());
+  const std::size_t rig_at = text.find("\nRIG ") + 1;
+  const std::string rig_line = text.substr(rig_at, text.find('\n', rig_at) + 1 - rig_at);
+  const std::string twice = ::testing::TempDir() + "/rig_twice.fslog";
+  std::ofstream(twice) << text.substr(0, rig_at) + rig_line + text.substr(rig_at);
+  try {
+    OpenLog(twice);
+    ADD_FAILURE() << "two RIG lines were read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("a second RIG line"), std::string::npos) << e.what();
+  }
+  const std::size_t second_sensor = text.find("\nSENSOR b ") + 1;
+  const std::string lone = ::testing::TempDir() + "/rig_lone.fslog";
+  std::ofstream(lone) << text.substr(0, second_sensor) +
+                             text.substr(text.find('\n', second_sensor) + 1);
+  auto lone_reader = OpenLog(lone);
+  EXPECT_EQ(lone_reader->sensors().size(), 1u);
+  bool noted = false;
+  for (const LogIssue& issue : lone_reader->TakeIssues()) {
+    noted = noted ||
+            (issue.note && issue.message.find("a RIG line with one SENSOR") != std::string::npos);
+  }
+  EXPECT_TRUE(noted);
+
   // A one-sensor log stays version 1 and gives one scan a cycle.
   const std::string one = ::testing::TempDir() + "/one.fslog";
   {

@@ -56,7 +56,12 @@ class NativeReader final : public LogReader {
     }
     if (rig_.empty()) throw InputError(path + ": no SENSOR line after the header");
     sensor_ = rig_.front();
-    if (rig_.size() == 1) rig_.clear();
+    if (rig_.size() == 1) {
+      rig_.clear();
+      if (has_rig_line_) {
+        Note(0, "a RIG line with one SENSOR: a log of one sensor has no rig; the line is not used");
+      }
+    }
   }
 
   bool Next(Scan* scan) override {
@@ -119,6 +124,8 @@ class NativeReader final : public LogReader {
 
   // "RIG reference_x_m reference_y_m footprint_length_m footprint_width_m" (version 2).
   void ReadRig() {
+    if (has_rig_line_) throw InputError(Where() + "a second RIG line (a log has at most one)");
+    has_rig_line_ = true;
     double v[4];
     bool ok = fields_.size() == 5;
     for (int i = 0; ok && i < 4; ++i) ok = ParseDouble(fields_[i + 1], &v[i]);
@@ -252,6 +259,7 @@ class NativeReader final : public LogReader {
   int version_ = 1;
   std::string pending_;
   bool has_pending_ = false;
+  bool has_rig_line_ = false;
   double size_ = 0;
   std::vector<std::string_view> fields_;
   std::size_t line_no_ = 0;
