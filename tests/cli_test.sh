@@ -46,6 +46,14 @@ grep -m 1 '^FLASER' "$log" >>"$out/last-rejected.log"
 [ "$(cd "$out/last-rejected" && ls snapshot_*.png)" = "snapshot_000059.png" ] \
   || fail "closing snapshot: $(ls "$out/last-rejected")"
 
+# An earlier run's files in --out go first (said), so that none stands beside this run's.
+touch "$out/last-rejected/snapshot_999999.png" "$out/last-rejected/polygons.geojsonl"
+"$bin" run --log "$out/last-rejected.log" --out "$out/last-rejected" --snapshot-every 0 --quiet \
+  2>"$out/rerun.err" || fail "rerun into the same --out failed"
+grep -q "removed 5 file(s) of an earlier run" "$out/rerun.err" || fail "$(cat "$out/rerun.err")"
+[ "$(cd "$out/last-rejected" && ls | tr '\n' ' ')" = "polygons.jsonl snapshot_000059.png summary.json " ] \
+  || fail "after the rerun: $(ls "$out/last-rejected")"
+
 # A malformed line: reported with file and line, skipped and counted; --strict stops.
 head -n 40 "$log" >"$out/bad.log"
 echo "FLASER 180 1.0 2.0 3.0" >>"$out/bad.log"

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -141,6 +142,7 @@ class LogRun {
       }
       cycles_ = std::make_unique<CycleReader>(*reader_, config_.sensor_count());
       MakeDirectories(options_.out);
+      RemoveEarlierRun();
       estimator_ = std::make_unique<Estimator>(config_);
       polygons_ =
           std::make_unique<TextFile>(options_.out + "/" + PolygonFileName(options_.polygon_format));
@@ -150,6 +152,26 @@ class LogRun {
       return false;
     }
     return true;
+  }
+
+  // The files an earlier run left in --out (summary.json, both polygon files, snapshots): a run
+  // that stops early must not leave them beside its own, looking complete. Says what it removed.
+  void RemoveEarlierRun() const {
+    namespace fs = std::filesystem;
+    std::vector<fs::path> old;
+    for (const fs::directory_entry& e : fs::directory_iterator(options_.out)) {
+      const std::string name = e.path().filename().string();
+      const bool snapshot = name.rfind("snapshot_", 0) == 0 && e.path().extension() == ".png";
+      if (e.is_regular_file() && (snapshot || name == "summary.json" || name == "polygons.jsonl" ||
+                                  name == "polygons.geojsonl")) {
+        old.push_back(e.path());
+      }
+    }
+    for (const fs::path& p : old) fs::remove(p);
+    if (!old.empty()) {
+      std::cerr << "freespace run: removed " << old.size() << " file(s) of an earlier run from "
+                << options_.out << "\n";
+    }
   }
 
   void PrintSetup() const {
