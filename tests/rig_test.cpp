@@ -380,6 +380,19 @@ TEST(RigLog, Version2CarriesTheRigAndEachScansSensor) {
   }
   EXPECT_TRUE(noted);
 
+  // Sensor names are read as written: a long one whole, one of other bytes as they are (which the
+  // config then refuses), never turned into another name.
+  const std::string long_name(60, 'n');
+  const std::string names = ::testing::TempDir() + "/rig_names.fslog";
+  std::string renamed = text;
+  renamed.replace(renamed.find("SENSOR b "), 8, "SENSOR " + long_name);
+  renamed.replace(renamed.find("SENSOR a "), 8, "SENSOR vorn_\xc3\xa4");
+  std::ofstream(names) << renamed;
+  auto named = OpenLog(names);
+  ASSERT_EQ(named->sensors().size(), 2u);
+  EXPECT_EQ(named->sensors()[0].name, "vorn_\xc3\xa4");
+  EXPECT_EQ(named->sensors()[1].name, long_name);
+
   // A one-sensor log stays version 1 and gives one scan a cycle.
   const std::string one = ::testing::TempDir() + "/one.fslog";
   {

@@ -163,7 +163,7 @@ class NativeReader final : public LogReader {
       throw InputError(Where() + "more than " + std::to_string(kMaxSensors) + " SENSOR lines");
     }
     SensorConfig s;
-    if (named) s.name = Excerpt(fields_[1]);
+    if (named) s.name = std::string(fields_[1]);  // as written: the config checks it
     s.layers = int(v[0]);
     s.min_angle_deg = v[1];
     s.max_angle_deg = v[2];
