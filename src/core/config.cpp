@@ -142,30 +142,12 @@ class YamlWriter {
     Line(name, s.str());
   }
   void operator()(const char* name, bool v, const Spec&) { Line(name, Format(v)); }
-  void operator()(const char* name, const std::string& v, const Spec&) { Line(name, Quoted(v)); }
+  void operator()(const char* name, const std::string& v, const Spec&) {
+    Line(name, io::YamlQuoted(v));
+  }
   template <class E, std::size_t N>
   void Enum(const char* name, E v, const EnumName<E> (&names)[N], const Spec&) {
     Line(name, NameOf(names, v));
-  }
-  // A YAML double-quoted scalar that reads back as `v`: quotes, backslashes and control
-  // characters escaped.
-  static std::string Quoted(const std::string& v) {
-    static const char kHex[] = "0123456789abcdef";
-    std::string out = "\"";
-    for (const char ch : v) {
-      const unsigned char c = static_cast<unsigned char>(ch);
-      if (c == '"' || c == '\\') {
-        out += '\\';
-        out += ch;
-      } else if (c < 0x20 || c == 0x7f) {
-        out += "\\x";
-        out += kHex[c >> 4];
-        out += kHex[c & 15];
-      } else {
-        out += ch;
-      }
-    }
-    return out + "\"";
   }
   std::string str() const { return out_.str(); }
 

@@ -13,6 +13,7 @@
 #include "core/backend.hpp"
 #include "freespace/errors.hpp"
 #include "freespace/map_io.hpp"
+#include "io/text.hpp"
 
 namespace freespace {
 namespace {
@@ -46,26 +47,6 @@ void Finish(std::ofstream& out, const std::string& path) {
   if (!out) throw OutputError(path + ": write failed");
 }
 
-// `text` as a YAML double-quoted scalar: a file name may hold '#', ": ", quotes or spaces.
-std::string YamlQuoted(const std::string& text) {
-  static const char kHex[] = "0123456789abcdef";
-  std::string out = "\"";
-  for (const char ch : text) {
-    const unsigned char c = static_cast<unsigned char>(ch);
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += ch;
-    } else if (c < 0x20 || c == 0x7f) {
-      out += "\\x";
-      out += kHex[c >> 4];
-      out += kHex[c & 15];
-    } else {
-      out += ch;
-    }
-  }
-  return out + '"';
-}
-
 std::string BaseName(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
   return slash == std::string::npos ? path : path.substr(slash + 1);
@@ -89,7 +70,7 @@ void WritePgm(const MapView& map, const std::string& path, const MapFileOptions&
 
 void WriteYaml(const MapView& map, const MapFiles& files, const MapFileOptions& options) {
   std::ofstream out = OpenOut(files.yaml);
-  out << "image: " << YamlQuoted(BaseName(files.pgm)) << "\n"
+  out << "image: " << io::YamlQuoted(BaseName(files.pgm)) << "\n"
       << "resolution: " << Decimal(map.resolution_m) << "\n"
       << "origin: [" << Decimal(map.origin.x()) << ", " << Decimal(map.origin.y()) << ", "
       << Decimal(map.map_yaw) << "]\n"

@@ -73,6 +73,27 @@ inline std::string Excerpt(std::string_view text, std::size_t max_bytes = 40) {
   return out;
 }
 
+// `text` as a YAML double-quoted scalar that reads back as `text`: quotes, backslashes and
+// control characters escaped (a file name or sensor name may hold '#', ": " or quotes).
+inline std::string YamlQuoted(std::string_view text) {
+  static const char kHex[] = "0123456789abcdef";
+  std::string out = "\"";
+  for (const char ch : text) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (c < 0x20 || c == 0x7f) {
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    } else {
+      out += ch;
+    }
+  }
+  return out + '"';
+}
+
 // The note on a last line without a newline: a file cut short while written ends so.
 inline constexpr const char* kNoFinalNewline =
     "the last line ends without a newline (a file cut short?); read as it is";
