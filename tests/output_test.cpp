@@ -93,8 +93,6 @@ TEST(TextFile, ADirectoryInTheWayIsAnErrorNamingTheFile) {
   std::filesystem::remove_all(dir);
 }
 
-// `freespace run` keeps its stage times in fixed memory: the histogram's quantiles stay within
-// half a bin (0.5 %) of the exact ones over a long, spread-out series.
 // An AVI file is written whole when its RIFF header's size is the file's: one cut short (a full
 // disk, which OpenCV's writer does not report) or of another kind is an error naming it.
 TEST(TextFile, AnAviCutShortIsAnErrorNamingTheFile) {
@@ -123,6 +121,8 @@ TEST(TextFile, AnAviCutShortIsAnErrorNamingTheFile) {
   EXPECT_THROW(CheckAviWritten(path), OutputError);
 }
 
+// `freespace run` keeps its stage times in fixed memory: the histogram's quantiles stay within
+// half a bin (0.5 %) of the exact ones over a long, spread-out series.
 TEST(StageHistogram, QuantilesMatchTheExactOnesWithinHalfABin) {
   std::mt19937 random(7);
   std::lognormal_distribution<double> times(std::log(800.0), 0.6);

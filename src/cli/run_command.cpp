@@ -142,11 +142,11 @@ class LogRun {
       }
       cycles_ = std::make_unique<CycleReader>(*reader_, config_.sensor_count());
       MakeDirectories(options_.out);
-      RemoveEarlierRun();
       estimator_ = std::make_unique<Estimator>(config_);
+      bag_out_.Open(options_.bag);
+      RemoveEarlierRun();  // once nothing before the first scan can fail
       polygons_ =
           std::make_unique<TextFile>(options_.out + "/" + PolygonFileName(options_.polygon_format));
-      bag_out_.Open(options_.bag);
     } catch (const std::exception& e) {
       std::cerr << "freespace run: " << e.what() << "\n";
       return false;
@@ -158,16 +158,26 @@ class LogRun {
   // that stops early must not leave them beside its own, looking complete. Says what it removed.
   void RemoveEarlierRun() const {
     namespace fs = std::filesystem;
+    std::error_code error;
     std::vector<fs::path> old;
-    for (const fs::directory_entry& e : fs::directory_iterator(options_.out)) {
-      const std::string name = e.path().filename().string();
-      const bool snapshot = name.rfind("snapshot_", 0) == 0 && e.path().extension() == ".png";
-      if (e.is_regular_file() && (snapshot || name == "summary.json" || name == "polygons.jsonl" ||
-                                  name == "polygons.geojsonl")) {
-        old.push_back(e.path());
+    for (fs::directory_iterator it(options_.out, error), end; !error && it != end;
+         it.increment(error)) {
+      const fs::path& p = it->path();
+      const std::string name = p.filename().string();
+      const bool snapshot = name.rfind("snapshot_", 0) == 0 && p.extension() == ".png";
+      if (!snapshot && name != "summary.json" && name != "polygons.jsonl" &&
+          name != "polygons.geojsonl") {
+        continue;
+      }
+      std::error_code kind;
+      if (fs::is_regular_file(fs::symlink_status(p, kind)) && !kind) old.push_back(p);
+    }
+    if (error) throw OutputError(options_.out + ": cannot list: " + error.message());
+    for (const fs::path& p : old) {
+      if (!fs::remove(p, error) && error) {
+        throw OutputError(p.string() + ": cannot remove an earlier run's file: " + error.message());
       }
     }
-    for (const fs::path& p : old) fs::remove(p);
     if (!old.empty()) {
       std::cerr << "freespace run: removed " << old.size() << " file(s) of an earlier run from "
                 << options_.out << "\n";

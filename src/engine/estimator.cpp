@@ -330,7 +330,7 @@ void Estimator::Impl::ExtractPolygon() {
   double error_cells = 0.0;
   if (!polygon_->Extract(r.edge_cells, r.vehicle_cells, &r.polygon_cells, &error_cells)) {
     r.polygon_status = PolygonStatus::kNoFreeSpace;
-    if (r.message.empty()) r.message.assign("nothing around the sensor is free: no polygon");
+    AddMessage(&r, "nothing around the sensor is free: no polygon");
     return;
   }
   r.polygon_status = PolygonStatus::kOk;

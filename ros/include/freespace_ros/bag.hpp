@@ -59,7 +59,9 @@ std::unique_ptr<LogReader> OpenRosBag(const std::string& path, const BagOptions&
 class BagResultWriter {
  public:
   // Throws OutputError when the bag cannot be created; Write() and Close() when a write fails
-  // (InputError from Write() for a scan before time 0, which a ROS time cannot hold).
+  // (InputError from Write() for a scan before time 0, which a ROS time cannot hold). A bag that
+  // failed to close is left undestroyed with its file open (rosbag's destructor would throw
+  // again and end the program): a process that goes on after such an error holds it.
   BagResultWriter(const std::string& path, const std::string& frame_id,
                   const std::string& topic_prefix = "/freespace");
   ~BagResultWriter();

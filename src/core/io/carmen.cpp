@@ -311,7 +311,8 @@ class CarmenReader final : public LogReader {
                           (fields_.size() < expected ? "truncated line: " : "too many fields: ") +
                           std::to_string(fields_.size()) + " fields, expected " +
                           std::to_string(expected) + " for " + std::to_string(n) +
-                          " beams; line skipped");
+                          " beams (the ranges, two poses, ipc timestamp, host, logger " +
+                          "timestamp); line skipped");
       return false;
     }
     double x, y, theta, t;

@@ -77,7 +77,8 @@ bool CutVelodyneFrame(const std::string& path, LayerCut* cut, std::vector<std::s
     problems->push_back("no point (" + std::to_string(size) + " bytes)");
   } else if (cut->used() == 0) {
     problems->push_back("no point of its " + std::to_string(size / 16) +
-                        " lies in a layer of the cut (a scan of beams without echo)");
+                        " lies in a layer of the cut, within the aperture and beyond the " +
+                        "minimum range (a scan of beams without echo)");
   }
   return true;
 }
