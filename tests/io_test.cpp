@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "alloc_counter.hpp"
@@ -116,6 +117,35 @@ TEST(Io, RobotLaserLinesWithOneTimestampAreTheLayersOfOneScan) {
   EXPECT_DOUBLE_EQ(scan.pose.x, 1.0);
   EXPECT_FALSE(reader->Next(&scan));
   EXPECT_TRUE(reader->TakeIssues().empty());
+
+  // The first scan's second line with another laser pose: no layer of that scan (reported and
+  // skipped), and the log still has three layers.
+  std::ifstream in(path);
+  std::string text, line;
+  int robot_lines = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("ROBOTLASER1 ", 0) == 0 && ++robot_lines == 2) {
+      std::istringstream split(line);
+      std::vector<std::string> f((std::istream_iterator<std::string>(split)),
+                                 std::istream_iterator<std::string>());
+      const std::size_t n = std::stoul(f[8]), m = std::stoul(f[9 + n]);
+      f[n + m + 10] = "7.5";  // laser x
+      line.clear();
+      for (const std::string& field : f) line += (line.empty() ? "" : " ") + field;
+    }
+    text += line + "\n";
+  }
+  auto moved = OpenLog(TempFile("c_moved.log", text));
+  EXPECT_EQ(moved->sensor().layers, 3);
+  ASSERT_TRUE(moved->Next(&scan));
+  EXPECT_EQ(scan.points.size(), 2u * 41);
+  EXPECT_DOUBLE_EQ(scan.pose.x, 0.0);
+  ASSERT_TRUE(moved->Next(&scan));
+  EXPECT_EQ(scan.points.size(), 3u * 41);
+  const auto issues = moved->TakeIssues();
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_NE(issues[0].message.find("another laser pose: no layer of that scan"), std::string::npos)
+      << issues[0].message;
 }
 
 // What a skipped CARMEN line may not leave behind: a FLASER line with a field too many (which

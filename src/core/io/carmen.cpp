@@ -64,6 +64,7 @@ class CarmenReader final : public LogReader {
         const std::string kind(fields_[0]);
         double t = 0;
         scan->points.clear();  // layer 0 starts the scan
+        const std::string pose = PeekLaserPose();
         if (!ParseRobotLaser(line_no, 0, scan, &t)) continue;
         scan->sensor = robot;
         line_ = line_no;
@@ -77,6 +78,11 @@ class CarmenReader final : public LogReader {
           double t_next = 0;
           Scan layer_scan;
           if (!fields_.empty() && fields_[0] == kind && PeekTimestamp(&t_next) && t_next == t) {
+            if (PeekLaserPose() != pose) {
+              Report(next_no, kind + ": the timestamp of the line before, another laser pose: " +
+                                  "no layer of that scan; line skipped");
+              continue;
+            }
             if (layer > kMaxLayer) {
               if (skipped++ == 0) skipped_from = next_no;
             } else if (ParseRobotLaser(next_no, std::uint8_t(layer), &layer_scan, &t_next)) {
@@ -147,6 +153,7 @@ class CarmenReader final : public LogReader {
     SensorConfig sensor;
     int layers = 1, group = 0;
     double group_t = NAN;
+    std::string group_pose;  // the laser pose's fields on the group's first line
     Pose2D laser, odometry;  // on its first line
   };
 
@@ -216,8 +223,11 @@ class CarmenReader final : public LogReader {
     }
     *max_range = std::max(*max_range, line_max);
     if (PeekTimestamp(&t)) {
+      const std::string pose = PeekLaserPose();
+      if (t == laser->group_t && pose != laser->group_pose) return;  // skipped when read
       laser->group = (t == laser->group_t) ? laser->group + 1 : 1;
       laser->group_t = t;
+      laser->group_pose = pose;
       laser->layers = std::max(laser->layers, laser->group);
     }
   }
@@ -277,6 +287,21 @@ class CarmenReader final : public LogReader {
     second_ = kNoSecond;
     sensor_ = lasers[0].sensor;
     sensor_.mount_x_m = sensor_.mount_y_m = sensor_.mount_yaw_deg = 0.0;  // laser poses
+  }
+
+  // The laser pose's three fields of the ROBOTLASER1 line in fields_, as written ("" when the
+  // line is too short): the layers of one scan share them.
+  std::string PeekLaserPose() const {
+    long n = 0, m = 0;
+    if (fields_.size() < 10 || !ParseInt(fields_[8], &n) || n < 0 ||
+        fields_.size() < std::size_t(n) + 10 || !ParseInt(fields_[9 + n], &m) || m < 0 ||
+        std::size_t(m) > fields_.size()) {
+      return "";
+    }
+    const std::size_t at = std::size_t(n + m) + 10;
+    if (fields_.size() < at + 3) return "";
+    return std::string(fields_[at]) + ' ' + std::string(fields_[at + 1]) + ' ' +
+           std::string(fields_[at + 2]);
   }
 
   // The ipc timestamp of the ROBOTLASER1 line in fields_.
