@@ -79,18 +79,19 @@ TEST(Io, MalformedAndTruncatedLinesAreReportedWithTheirLineAndSkipped) {
   EXPECT_NE(issues[0].ToString().find("b.log:2: "), std::string::npos);
 }
 
-TEST(Io, RobotLaserLinesWithOneTimestampAreTheLayersOfOneScan) {
+// Two ROBOTLASER1 scans (t 5 and 6, laser x 0 and 1) of `layers` lines each, 41 beams from -10
+// to 10 deg: beam b of layer l at 10 + l + 0.01 b m, beam 7 without echo.
+void WriteRobotLaserLog(const std::string& path, int layers) {
   SensorConfig sensor;
-  sensor.layers = 3;
+  sensor.layers = layers;
   sensor.min_angle_deg = -10;
   sensor.max_angle_deg = 10;
   sensor.angular_resolution_deg = 0.5;
   sensor.max_range_m = 60;
-  const std::string path = ::testing::TempDir() + "/c.log";
   RobotLaserWriter writer(path, sensor);
   for (int k = 0; k < 2; ++k) {
     Scan scan = test::MakeScan(5.0 + k, {1.0 * k, 2.0, 0.25}, {}, {});
-    for (int layer = 0; layer < 3; ++layer) {
+    for (int layer = 0; layer < layers; ++layer) {
       for (int b = 0; b <= 40; ++b) {
         ScanPoint p;
         p.layer = std::uint8_t(layer);
@@ -103,6 +104,11 @@ TEST(Io, RobotLaserLinesWithOneTimestampAreTheLayersOfOneScan) {
     writer.Write(scan);
   }
   writer.Close();
+}
+
+TEST(Io, RobotLaserLinesWithOneTimestampAreTheLayersOfOneScan) {
+  const std::string path = ::testing::TempDir() + "/c.log";
+  WriteRobotLaserLog(path, 3);
   auto reader = OpenLog(path);
   EXPECT_EQ(reader->sensor().layers, 3);
   EXPECT_NEAR(reader->sensor().angular_resolution_deg, 0.5, 1e-6);
@@ -179,25 +185,8 @@ TEST(Io, CarmenLinesSkippedLeaveNothingBehind) {
   }
   {
     // A ROBOTLASER1 scan after a FLASER line skipped for a bad range holds its own points only.
-    SensorConfig sensor;
-    sensor.layers = 1;
-    sensor.min_angle_deg = -10;
-    sensor.max_angle_deg = 10;
-    sensor.angular_resolution_deg = 0.5;
-    sensor.max_range_m = 60;
     const std::string robot = ::testing::TempDir() + "/skip2_robot.log";
-    RobotLaserWriter writer(robot, sensor);
-    for (int k = 0; k < 2; ++k) {
-      Scan scan = test::MakeScan(5.0 + k, {1.0 * k, 2.0, 0.25}, {}, {});
-      for (int b = 0; b <= 40; ++b) {
-        ScanPoint p;
-        p.angle_rad = float((-10 + 0.5 * b) * M_PI / 180);
-        p.range_m = 10.0f;
-        scan.points.push_back(p);
-      }
-      writer.Write(scan);
-    }
-    writer.Close();
+    WriteRobotLaserLog(robot, 1);
     std::ifstream in(robot);
     std::string first, second, line;
     while (std::getline(in, line))

@@ -3,6 +3,7 @@
 // decided by their centre alone.
 #include "eval/metrics.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -23,17 +24,17 @@ double Ratio(double a, double b) { return b > 0.0 ? a / b : kNaN; }
 
 nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
-// A world offset in the map's axes (turned by -map_yaw), in cells.
-Vec2 OffsetInCells(const Vec2& d, const MapView& map) {
-  const double c = std::cos(map.map_yaw), s = std::sin(map.map_yaw);
-  return Vec2(c * d.x() + s * d.y(), -s * d.x() + c * d.y()) / map.resolution_m;
+// World offsets turned into the map's axes (by -map_yaw); divided by the resolution, cells.
+Eigen::Matrix2d ToMapAxes(const MapView& map) {
+  return Eigen::Rotation2Dd(-map.map_yaw).toRotationMatrix();
 }
 
 // Cell coordinates (continuous: cell (r, c) spans [c, c+1) x [r, r+1)) of world points.
 Polygon ToCells(const Polygon& world, const MapView& map) {
+  const Eigen::Matrix2d turn = ToMapAxes(map);
   Polygon out;
   out.reserve(world.size());
-  for (const Vec2& p : world) out.push_back(OffsetInCells(p - map.origin, map));
+  for (const Vec2& p : world) out.push_back(turn * (p - map.origin) / map.resolution_m);
   return out;
 }
 
@@ -187,7 +188,7 @@ void QualityEvaluator::See(const MapView& map, const Polygon& visible) {
                  std::abs(std::remainder(map.map_yaw - seen_yaw_, 2.0 * M_PI)) > 1e-9;
   int kx = 0, ky = 0;
   if (!restart) {
-    const Vec2 d = OffsetInCells(map.origin - seen_origin_, map);
+    const Vec2 d = ToMapAxes(map) * (map.origin - seen_origin_) / map.resolution_m;
     kx = int(std::lround(d.x()));
     ky = int(std::lround(d.y()));
     restart = std::abs(d.x() - kx) > 1e-6 || std::abs(d.y() - ky) > 1e-6;
