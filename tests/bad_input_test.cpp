@@ -112,23 +112,29 @@ std::string RobotLaser(double t, int n) {
   return line + "\n";
 }
 
-TEST(BadInput, RobotLaserLayersPast256AreReportedNotWrapped) {
+// A scan holds at most 255 layers (SensorConfig::layers): lines past the 255th with one
+// timestamp are reported with their count, neither wrapped back to layer 0 nor kept as a layer
+// the engine would drop.
+TEST(BadInput, RobotLaserLayersPast255AreReportedNotWrapped) {
   std::string text;
   for (int i = 0; i < 300; ++i) text += RobotLaser(1.0, 4);
   text += RobotLaser(2.0, 4);
   const std::string path = TempFile("many-layers.log", text);
   auto reader = OpenLog(path);
+  ASSERT_EQ(reader->sensor().layers, 255);
   Scan scan;
   ASSERT_TRUE(reader->Next(&scan));
-  ASSERT_EQ(scan.points.size(), 256u * 4);
-  // Layer numbers run 0..255 once each, in order: none wrapped back to 0.
+  ASSERT_EQ(scan.points.size(), 255u * 4);
+  // Layer numbers run 0..254 once each, in order: none wrapped back to 0, all within the sensor's.
   for (std::size_t i = 0; i < scan.points.size(); ++i) {
     ASSERT_EQ(scan.points[i].layer, i / 4) << i;
   }
   const auto issues = reader->TakeIssues();
   ASSERT_EQ(issues.size(), 1u);
-  EXPECT_EQ(issues[0].line, 257u);
-  EXPECT_NE(issues[0].message.find("44 line(s)"), std::string::npos) << issues[0].message;
+  EXPECT_EQ(issues[0].line, 256u);
+  EXPECT_NE(issues[0].message.find("45 line(s) from here on share the timestamp of the 255 before"),
+            std::string::npos)
+      << issues[0].message;
   ASSERT_TRUE(reader->Next(&scan));
   EXPECT_DOUBLE_EQ(scan.timestamp_s, 2.0);
   EXPECT_EQ(scan.points.size(), 4u);

@@ -21,7 +21,7 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 constexpr double kNoEchoMargin = 0.01;
-constexpr int kMaxLayer = 255;  // ScanPoint::layer is a uint8
+constexpr int kMaxLayer = 254;  // a scan holds layers 0..254: SensorConfig::layers is at most 255
 
 bool IsMessageName(std::string_view s) {
   return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
@@ -69,7 +69,7 @@ class CarmenReader final : public LogReader {
         scan->sensor = robot;
         line_ = line_no;
         // Further layers: following lines of the same laser with the same timestamp.
-        int layer = 1;  // a layer index is a uint8: lines past the 256th of a scan are skipped
+        int layer = 1;  // lines past the 255th of a scan are reported and skipped
         std::size_t skipped = 0, skipped_from = 0;
         std::string next;
         std::size_t next_no = 0;
@@ -257,7 +257,7 @@ class CarmenReader final : public LogReader {
     }
     max_range_ = options.carmen_max_range_m > 0 ? options.carmen_max_range_m : max_range;
     for (Surveyed& l : lasers) {
-      l.sensor.layers = std::min(l.layers, 255);
+      l.sensor.layers = std::min(l.layers, kMaxLayer + 1);
       l.sensor.min_range_m = 0.0;
       l.sensor.max_range_m = std::max(max_range_, 1.0);
       l.sensor.no_echo_margin_m = kNoEchoMargin;
