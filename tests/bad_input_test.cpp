@@ -105,6 +105,40 @@ TEST(BadInput, NativeSensorSweepIsReadWrittenAndChecked) {
   }
 }
 
+// A SENSOR line's numbers the engine cannot use are the log's error, named at its line, not a
+// config error about a field the user's config does not hold.
+TEST(BadInput, SensorLineNumbersAreCheckedAtTheLine) {
+  const struct {
+    const char* numbers;  // layers min max resolution min_range max_range mount x y yaw
+    const char* field;
+  } cases[] = {
+      {"1 -90 90 nan 0 80 0 0 0", "angular_resolution_deg"},
+      {"1 -90 90 -1 0 80 0 0 0", "angular_resolution_deg"},
+      {"1 -90 -95 1 0 80 0 0 0", "max_angle_deg"},
+      {"1 -90 90 1 5 4 0 0 0", "max_range_m"},
+      {"1 -90 90 1 0 80 inf 0 0", "mount_x_m"},
+      {"1 -90 90 1 -1 80 0 0 0", "min_range_m"},
+  };
+  for (const auto& c : cases) {
+    const std::string path = TempFile("badsensor.fslog", "FREESPACE_LOG 1\nSENSOR " +
+                                                             std::string(c.numbers) + "\n");
+    try {
+      OpenLog(path);
+      ADD_FAILURE() << c.numbers << ": expected InputError";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("badsensor.fslog:2: SENSOR: sensor." + std::string(c.field) + " = "),
+                std::string::npos)
+          << what;
+    }
+  }
+  // The same line with usable numbers reads.
+  EXPECT_EQ(OpenLog(TempFile("goodsensor.fslog", "FREESPACE_LOG 1\nSENSOR 1 -90 90 1 0 80 0 0 0\n"))
+                ->sensor()
+                .max_range_m,
+            80.0);
+}
+
 std::string RobotLaser(double t, int n) {
   std::string line = "ROBOTLASER1 0 -1.5 3 0.1 50 0.01 0 " + std::to_string(n);
   for (int i = 0; i < n; ++i) line += " 5.0";
@@ -138,6 +172,25 @@ TEST(BadInput, RobotLaserLayersPast255AreReportedNotWrapped) {
   ASSERT_TRUE(reader->Next(&scan));
   EXPECT_DOUBLE_EQ(scan.timestamp_s, 2.0);
   EXPECT_EQ(scan.points.size(), 4u);
+}
+
+// The aperture a ROBOTLASER1 log's first line gives is checked there: a start angle that is not a
+// number or a beam spacing over 10 deg refuses the log at that line.
+TEST(BadInput, RobotLaserApertureIsCheckedAtItsLine) {
+  for (const char* bad : {"ROBOTLASER1 0 nan 3 0.1", "ROBOTLASER1 0 -1.5 3 0.5"}) {
+    std::string line = RobotLaser(1.0, 4);
+    line.replace(0, std::string("ROBOTLASER1 0 -1.5 3 0.1").size(), bad);
+    const std::string path = TempFile("aperture.log", "# a log\n" + line + RobotLaser(2.0, 4));
+    try {
+      OpenLog(path);
+      ADD_FAILURE() << bad << ": expected InputError";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("aperture.log:2: ROBOTLASER1: the laser's aperture from this line: sensor."),
+                std::string::npos)
+          << what;
+    }
+  }
 }
 
 TEST(BadInput, RobotLaserRemissionCountsThatOverflowAreReported) {

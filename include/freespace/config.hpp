@@ -209,6 +209,11 @@ struct Config {
   std::string ToYaml() const;
 };
 
+// Checks one sensor on its own: each field within its range and the rules among its fields
+// (not those with the rest of a config, such as the scan's reach in cells). Throws ConfigError
+// ("config: sensor.<field> = <value>: <rule>").
+void ValidateSensor(const SensorConfig& sensor);
+
 // The top-level sections present in a YAML config text (e.g. to tell whether it sets the
 // sensor or leaves it to the log).
 std::vector<std::string> YamlSections(const std::string& yaml_text);

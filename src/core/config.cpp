@@ -1,7 +1,7 @@
 // Config: one field table (VisitFields) gives every field its section, name, unit, valid range and
 // one-line doc; YAML reading and writing, validation (messages "field = value: rule") and the
-// reference table of docs/configuration.md all come from it. Rules between fields (kRelations)
-// are a short list beside it.
+// reference table of docs/configuration.md all come from it. Rules between fields
+// (kSensorRelations, kRelations) are a short list beside it.
 #include "freespace/config.hpp"
 
 #include <algorithm>
@@ -44,7 +44,8 @@ struct Relation {
   std::string (*detail)(const Config&);  // appended to the message; may be null
 };
 
-const Relation kRelations[] = {
+// Rules among one sensor's own fields (a log's SENSOR line is checked by them alone).
+const Relation kSensorRelations[] = {
     {"sensor.max_angle_deg", "must be in (sensor.min_angle_deg, sensor.min_angle_deg + 360]",
      [](const Config& c) {
        return c.sensor.max_angle_deg > c.sensor.min_angle_deg &&
@@ -58,6 +59,9 @@ const Relation kRelations[] = {
        return c.sensor.no_echo_margin_m < c.sensor.max_range_m - c.sensor.min_range_m;
      },
      nullptr},
+};
+
+const Relation kRelations[] = {
     {"sensor.max_range_m",
      "must keep the scan within 16384 cells: max_range_m and the mount's offset over "
      "map.resolution_m, plus the map's larger side",
@@ -248,13 +252,19 @@ std::string ValueText(const Config& c, const std::string& field) {
 
 namespace {
 
-void ValidateFields(const Config& c) {
-  VisitFields(c, RangeCheck());
-  for (const Relation& r : kRelations) {
+template <std::size_t N>
+void CheckRelations(const Config& c, const Relation (&relations)[N]) {
+  for (const Relation& r : relations) {
     if (r.holds(c)) continue;
     throw ConfigError("config: " + std::string(r.field) + " = " + ValueText(c, r.field) + ": " +
                       r.rule + (r.detail ? r.detail(c) : ""));
   }
+}
+
+void ValidateFields(const Config& c) {
+  VisitFields(c, RangeCheck());
+  CheckRelations(c, kSensorRelations);
+  CheckRelations(c, kRelations);
 }
 
 // `text` with every "sensor." (a field of the single sensor) read as one of the rig's.
@@ -325,18 +335,31 @@ void Config::Validate() const {
   ValidateFields(*this);
 }
 
+void ValidateSensor(const SensorConfig& sensor) {
+  RangeCheck check;
+  check.Section("sensor");
+  VisitSensor(sensor, check);
+  Config c;
+  c.sensor = sensor;
+  CheckRelations(c, kSensorRelations);
+}
+
 std::vector<ConfigFieldDoc> ConfigFieldDocs() {
   const Config defaults;
   DocCollector collector;
   VisitFields(defaults, collector);
   std::vector<ConfigFieldDoc> docs = std::move(collector.docs());
-  for (const Relation& r : kRelations) {
-    std::string rule = r.rule;  // "must be > x" reads "> x" in a range column
-    if (rule.rfind("must be ", 0) == 0) rule.erase(0, 8);
-    for (ConfigFieldDoc& d : docs) {
-      if (d.name == r.field) d.range += (d.range.empty() ? "" : "; ") + rule;
+  const auto add_rules = [&docs](const auto& relations) {
+    for (const Relation& r : relations) {
+      std::string rule = r.rule;  // "must be > x" reads "> x" in a range column
+      if (rule.rfind("must be ", 0) == 0) rule.erase(0, 8);
+      for (ConfigFieldDoc& d : docs) {
+        if (d.name == r.field) d.range += (d.range.empty() ? "" : "; ") + rule;
+      }
     }
-  }
+  };
+  add_rules(kSensorRelations);
+  add_rules(kRelations);
   return docs;
 }
 

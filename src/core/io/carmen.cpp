@@ -12,6 +12,7 @@
 #include <fstream>
 #include <string>
 
+#include "freespace/config.hpp"
 #include "freespace/errors.hpp"
 #include "readers.hpp"
 #include "text.hpp"
@@ -197,7 +198,9 @@ class CarmenReader final : public LogReader {
     }
   }
 
-  void SurveyRobotLaser(Surveyed* laser, double* max_range) {
+  // The first ROBOTLASER line of a laser gives its aperture: one the engine cannot use (an angle
+  // that is not a number, a resolution over 10 deg) refuses the log at that line.
+  void SurveyRobotLaser(Surveyed* laser, double* max_range, std::size_t line_no) {
     long n = 0, m = 0;
     if (fields_.size() <= 9 || !ParseInt(fields_[8], &n) || n <= 1) return;
     double start, fov, res, line_max, t, v[6];
@@ -218,6 +221,14 @@ class CarmenReader final : public LogReader {
       laser->sensor.min_angle_deg = start * kRadToDeg;
       laser->sensor.angular_resolution_deg = res * kRadToDeg;
       laser->sensor.max_angle_deg = (start + double(n - 1) * res) * kRadToDeg;
+      try {
+        ValidateSensor(laser->sensor);
+      } catch (const ConfigError& e) {
+        std::string why = e.what();
+        if (why.rfind("config: ", 0) == 0) why.erase(0, 8);
+        throw InputError(path_ + ":" + std::to_string(line_no) + ": " + std::string(fields_[0]) +
+                         ": the laser's aperture from this line: " + why);
+      }
       laser->laser = {v[0], v[1], v[2]};
       laser->odometry = {v[3], v[4], v[5]};
     }
@@ -250,7 +261,7 @@ class CarmenReader final : public LogReader {
       }
       const int flaser = FlaserSensor(name), robot = RobotLaserSensor(name);
       if (flaser >= 0) SurveyFlaser(&lasers[flaser], &max_range);
-      if (robot >= 0) SurveyRobotLaser(&lasers[robot], &max_range);
+      if (robot >= 0) SurveyRobotLaser(&lasers[robot], &max_range, line_no);
     }
     if (!lasers[0].found) {
       throw InputError(path_ + ": a CARMEN log without any usable FLASER or ROBOTLASER1 message");
