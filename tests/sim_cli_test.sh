@@ -58,6 +58,15 @@ done
 grep -q "median ms per scan" "$out/demo.txt" || fail "demo prints no timings"
 grep -q "polygon coverage" "$out/demo.txt" || fail "demo prints no quality"
 head -c 4 "$out/demo/demo.avi" | grep -q RIFF || fail "demo.avi is not an AVI file"
+# --video-max-mb: the video stops, said, and what it holds is a whole AVI file.
+"$bin" demo --scenario highway --duration 0.5 --snapshot-every 0 --video-max-mb 1 \
+  --out "$out/demo-cap" --quiet >"$out/demo-cap.txt" 2>&1 ||
+  fail "demo with --video-max-mb failed: $(cat "$out/demo-cap.txt")"
+grep -q "demo.avi stops before scan 2 at 1 MB" "$out/demo-cap.txt" ||
+  fail "demo does not say the video stopped: $(cat "$out/demo-cap.txt")"
+grep -q "demo.avi (1 frames, stopped at --video-max-mb)" "$out/demo-cap.txt" ||
+  fail "demo's summary does not say the video stopped: $(cat "$out/demo-cap.txt")"
+head -c 4 "$out/demo-cap/demo.avi" | grep -q RIFF || fail "the stopped demo.avi is not an AVI file"
 # Without --config the demo runs the road setup of configs/scala.yaml: its sensor's sweep, its
 # sensor model and polygon fields as that file has them (the demo writes numbers to 17 digits).
 for field in "sweep_s: 0.016" "free_on_outline: false" "shape: inside" "max_vertices: 128" \

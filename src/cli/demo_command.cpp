@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <opencv2/imgproc.hpp>
@@ -37,6 +38,8 @@ struct DemoOptions {
   std::string out = "out/demo";
   int snapshot_every = 125;
   int video_every = 2;
+  // demo.avi stops before it passes this size: OpenCV's AVI writer holds at most 4 GiB.
+  int video_max_mb = 3840;
   bool no_video = false;
   bool quiet = false;
   std::string save_map;  // --save-map PREFIX
@@ -170,11 +173,7 @@ class DemoRun {
       PrintProgress(index, t4);
     }
     if (!options_.quiet && tty_) std::fprintf(stderr, "\r%40s\r", "");
-    if (video_.isOpened()) {
-      // OpenCV's writer reports no write errors: the file must be as long as its header says.
-      video_.release();
-      CheckAviWritten(options_.out + "/demo.avi");
-    }
+    if (video_.isOpened()) CloseVideo();
     polygons_->Close();
     writer_->Close();
   }
@@ -184,7 +183,7 @@ class DemoRun {
   bool Draw(std::size_t index, const MapView& map, const Result& r, const ScanMetrics& m,
             const std::vector<Scan>& cycle) {
     const bool last = index + 1 == simulation_->scan_count();
-    const bool frame = !options_.no_video && index % options_.video_every == 0;
+    const bool frame = !options_.no_video && !video_full_ && index % options_.video_every == 0;
     const bool snapshot =
         last || (options_.snapshot_every > 0 && index % options_.snapshot_every == 0);
     if (!frame && !snapshot) return false;
@@ -211,7 +210,7 @@ class DemoRun {
                   simulation_->last().speed * 3.6, m.accuracy, m.intrusion_m2, m.coverage);
     overlay.caption = caption;
     const cv::Mat image = RenderSnapshot(map, r, overlay);
-    if (frame) AddFrame(image);
+    if (frame) AddFrame(image, index);
     if (snapshot) {
       char name[64];
       std::snprintf(name, sizeof name, "/snapshot_%06zu.png", index);
@@ -221,10 +220,19 @@ class DemoRun {
     return true;
   }
 
-  // Appends `image` to demo.avi, opening it on the first frame.
-  void AddFrame(const cv::Mat& image) {
+  // Appends `image` (of scan `index`) to demo.avi, opening it on the first frame; closes the
+  // video instead, said, once it has passed --video-max-mb less room for a frame.
+  void AddFrame(const cv::Mat& image, std::size_t index) {
+    const std::string path = options_.out + "/demo.avi";
+    if (video_.isOpened() && VideoFull(path, image)) {
+      CloseVideo();
+      video_full_ = true;
+      std::cerr << "freespace demo: demo.avi stops before scan " << index << " at "
+                << options_.video_max_mb << " MB (--video-max-mb; an AVI file holds at most "
+                << "4 GiB): no later frames\n";
+      return;
+    }
     if (!video_.isOpened()) {
-      const std::string path = options_.out + "/demo.avi";
       const double fps = 1.0 / (truth().scanner.scan_period_s * options_.video_every);
       video_.open(path, cv::CAP_OPENCV_MJPEG, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), fps,
                   image.size());
@@ -233,6 +241,22 @@ class DemoRun {
     }
     video_.write(image);
     ++frames_;
+  }
+
+  // Whether the next frame might take demo.avi past --video-max-mb: its size on disk (the
+  // writer's buffer aside) and room for twice the raw image (a JPEG frame is far smaller).
+  bool VideoFull(const std::string& path, const cv::Mat& image) const {
+    std::error_code error;
+    const std::uintmax_t size = std::filesystem::file_size(path, error);
+    if (error) return false;  // checked when the video closes
+    const std::uintmax_t room = 2 * image.total() * image.elemSize() + (std::uintmax_t(1) << 20);
+    return size + room > std::uintmax_t(options_.video_max_mb) << 20;
+  }
+
+  void CloseVideo() {
+    // OpenCV's writer reports no write errors: the file must be as long as its header says.
+    video_.release();
+    CheckAviWritten(options_.out + "/demo.avi");
   }
 
   // The share of the drive done, once a second on a terminal.
@@ -268,7 +292,9 @@ class DemoRun {
     std::cout << "freespace demo: wrote " << options_.out << "/: sim.fslog, "
               << (writer_->writes_carmen() ? "sim.clf, " : "")
               << "truth.json, config.yaml, polygons.jsonl, eval.json, "
-              << (frames_ > 0 ? "demo.avi (" + std::to_string(frames_) + " frames), " : "")
+              << (frames_ > 0 ? "demo.avi (" + std::to_string(frames_) + " frames" +
+                                    (video_full_ ? ", stopped at --video-max-mb" : "") + "), "
+                              : "")
               << snapshots_ << " snapshot PNG(s); " << seconds << " s in all\n";
     return kExitOk;
   }
@@ -300,6 +326,7 @@ class DemoRun {
   EchoCounts echoes_;
   cv::VideoWriter video_;
   std::size_t snapshots_ = 0, frames_ = 0;
+  bool video_full_ = false;  // demo.avi reached --video-max-mb
   long rejected_ = 0;
   const bool tty_ = isatty(STDERR_FILENO);
   Clock::time_point started_, last_progress_;
@@ -374,6 +401,12 @@ Command AddDemoCommand(CLI::App& app) {
       ->add_option("--video-every", options->video_every,
                    "A video frame every K scans (2: 12.5 frames per second of drive)")
       ->check(CLI::Range(1, 1 << 30))
+      ->capture_default_str();
+  command
+      ->add_option("--video-max-mb", options->video_max_mb,
+                   "demo.avi stops (said) before it passes this size, MiB (an AVI file holds at "
+                   "most 4 GiB)")
+      ->check(CLI::Range(1, 3840))
       ->capture_default_str();
   command->add_flag("--no-video", options->no_video, "Write no video");
   command->add_flag("--quiet", options->quiet, "No progress line");
