@@ -69,6 +69,15 @@ printf 'map:\n  resolution_m: -0.5\n' >"$out/bad.yaml"
 "$bin" run --log "$log" --out "$out/cfg" --config "$out/bad.yaml" 2>"$out/cfg.err"
 [ $? -eq 2 ] || fail "bad config must exit 2"
 grep -q "map.resolution_m = -0.5" "$out/cfg.err" || fail "config error does not name the field"
+# --set: one field over the config file; a bad one exits 2 naming the setting.
+"$bin" run --log "$log" --out "$out/set" --config "$(dirname "$0")/../configs/indoor.yaml" \
+  --set polygon.max_vertices=5 \
+  --max-scans 30 --snapshot-every 0 --quiet 2>/dev/null || fail "run with --set failed"
+grep -q '"max_vertices": [3-5],' "$out/set/summary.json" || fail "--set polygon.max_vertices=5 not used"
+"$bin" run --log "$log" --out "$out/set-bad" --set polygon.max_vertices=010 2>"$out/set.err"
+[ $? -eq 2 ] || fail "a bad --set must exit 2"
+grep -q "^freespace run: --set polygon.max_vertices=010: .*not a valid integer" "$out/set.err" ||
+  fail "a bad --set is not named: $(cat "$out/set.err")"
 
 # The backends: --backend opencl and --backend tbb write identical polygons on the same log.
 # Without a usable OpenCL device (or an OpenCL build) the comparison is skipped, saying why.

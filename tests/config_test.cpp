@@ -102,6 +102,72 @@ TEST(Config, ErrorsNameTheFieldAndTheValue) {
             std::string::npos);
 }
 
+// What yaml-cpp alone would read silently otherwise: 010 as octal 8 and 0x40 as 64, an empty
+// value as the text "null", and only the first of two documents.
+TEST(Config, IntegersAreDecimalEmptyValuesAndSecondDocumentsAreErrors) {
+  EXPECT_EQ(ErrorOf("polygon:\n  max_vertices: 010\n"),
+            "test.yaml:2: polygon.max_vertices = '010': not a valid integer (decimal digits, no "
+            "leading zero)");
+  EXPECT_NE(ErrorOf("map:\n  width_cells: 0x40\n").find("not a valid integer (decimal"),
+            std::string::npos);
+  EXPECT_EQ(Config::FromYaml("map:\n  width_cells: 0\n").map.width_cells, 0);
+  EXPECT_EQ(Config::FromYaml("map:\n  width_cells: +300\n").map.width_cells, 300);
+  EXPECT_EQ(Config::FromYaml("map:\n  width_cells: '300'\n").map.width_cells, 300);
+  EXPECT_DOUBLE_EQ(Config::FromYaml("map:\n  resolution_m: 010\n").map.resolution_m, 10.0);
+  EXPECT_EQ(ErrorOf("backend:\n  opencl_device:\n"),
+            "test.yaml:2: backend.opencl_device: no value (write '' for an empty string)");
+  EXPECT_EQ(ErrorOf("map:\n  width_cells: ~\n"), "test.yaml:2: map.width_cells: no value");
+  EXPECT_EQ(Config::FromYaml("backend:\n  opencl_device: ''\n").backend.opencl_device, "");
+  EXPECT_EQ(ErrorOf("polygon:\n  max_vertices: 16\n---\nmap:\n  width_cells: 100\n"),
+            "test.yaml:4: a second YAML document: a config is one document (merge the two)");
+  EXPECT_NE(ErrorOf("polygon:\n  max_vertices: 16\n...\nmap:\n  width_cells: 100\n")
+                .find("a second YAML document"),
+            std::string::npos);
+  // A stray marker with nothing after it is no second document.
+  EXPECT_EQ(Config::FromYaml("polygon:\n  max_vertices: 16\n---\n").polygon.max_vertices, 16);
+}
+
+// --set section.field=value: applied in order over a config, each checked as a config file's
+// field is, the result validated; a rig's sensors are not set this way.
+TEST(Config, SettingsChangeOneFieldEach) {
+  Config road;
+  road.polygon.shape = PolygonShape::kInside;
+  const Config c = WithSettings(road, {"polygon.margin_cells=2", "alignment.scan_match=true",
+                                       "polygon.margin_cells=1", "backend.opencl_device=''"});
+  EXPECT_EQ(c.polygon.margin_cells, 1);
+  EXPECT_TRUE(c.alignment.scan_match);
+  EXPECT_EQ(c.polygon.shape, PolygonShape::kInside);
+  EXPECT_EQ(c.backend.opencl_device, "");
+  const auto error = [&](const Config& base, const std::string& setting) {
+    try {
+      WithSettings(base, {setting});
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error(road, "polygon.margin=1"), "--set polygon.margin=1: unknown field 'polygon.margin'");
+  EXPECT_EQ(error(road, "polygon.max_vertices=010"),
+            "--set polygon.max_vertices=010: polygon.max_vertices = '010': not a valid integer "
+            "(decimal digits, no leading zero)");
+  EXPECT_EQ(error(road, "margin_cells=1"),
+            "--set margin_cells=1: expected section.field=value (e.g. polygon.margin_cells=0)");
+  EXPECT_EQ(error(road, "polygon.margin_cells=[1]"),
+            "--set polygon.margin_cells=[1]: the value must be one plain value ('' for an empty "
+            "string)");
+  EXPECT_EQ(error(Config(), "polygon.margin_cells=1"),
+            "config: polygon.margin_cells = 1: needs polygon.shape inside (0 with the paper's "
+            "polygon)");
+  Config rig = road;
+  rig.sensors = {SensorConfig{}, SensorConfig{}};
+  rig.sensors[0].name = "a";
+  rig.sensors[1].name = "b";
+  EXPECT_NE(error(rig, "sensor.mount_x_m=1").find("the config is a rig"), std::string::npos);
+  EXPECT_NE(error(rig, "sensors.name=c").find("a rig's sensors are set in the config file"),
+            std::string::npos);
+  EXPECT_EQ(WithSettings(rig, {"polygon.margin_cells=0"}).sensors.size(), 2u);
+}
+
 // Every malformed shape of YAML is a ConfigError naming the file, the line and the field (a
 // YAML exception escaping would fail these tests), quoting a short printable excerpt.
 TEST(Config, KeysThatAreNotPlainWordsAndRepeatedKeysAreConfigErrors) {

@@ -214,6 +214,12 @@ struct Config {
 // ("config: sensor.<field> = <value>: <rule>").
 void ValidateSensor(const SensorConfig& sensor);
 
+// `config` with fields set by "section.field=value" texts, applied in order (the value as YAML
+// reads a plain value: polygon.margin_cells=0, alignment.scan_match=true), each checked as a
+// config file's field is; the result validated. A rig's sensors are not set this way. Throws
+// ConfigError naming the setting.
+Config WithSettings(const Config& config, const std::vector<std::string>& settings);
+
 // The top-level sections present in a YAML config text (e.g. to tell whether it sets the
 // sensor or leaves it to the log).
 std::vector<std::string> YamlSections(const std::string& yaml_text);

@@ -14,6 +14,11 @@ void AddEngineOptions(CLI::App* command, EngineOptions* options) {
       ->add_option("--config", options->config_path,
                    "YAML config (docs/configuration.md); missing fields keep their defaults")
       ->check(CLI::ExistingFile);
+  command
+      ->add_option("--set", options->settings,
+                   "Sets one config field, section.field=value (e.g. polygon.margin_cells=0), "
+                   "over --config; repeatable")
+      ->allow_extra_args(false);
   command->add_option("--backend", options->backend, "Compute backend, overrides the config")
       ->check(CLI::IsMember({"tbb", "opencl", "auto"}));
   command
@@ -54,6 +59,7 @@ Config Load(const EngineOptions& options, const LogSensors* log, const Config& b
     config.sensors = log->sensors;
     if (!has_rig) config.rig = log->rig;
   }
+  config = WithSettings(config, options.settings);
   if (options.backend == "tbb") config.backend.kind = BackendKind::kTbb;
   if (options.backend == "opencl") config.backend.kind = BackendKind::kOpenCl;
   if (options.backend == "auto") config.backend.kind = BackendKind::kAuto;

@@ -1,4 +1,4 @@
-// What the engine-running commands share: the engine options (--config, --backend,
+// What the engine-running commands share: the engine options (--config, --set, --backend,
 // --threads, --opencl-wait, --opencl-devices), the config they make, and creating the output
 // folder.
 #pragma once
@@ -18,14 +18,15 @@ struct EngineOptions {
   int threads = -1;         // -1 = as configured
   std::string opencl_wait;  // empty = as configured
   int opencl_devices = 0;   // 0 = as configured
+  std::vector<std::string> settings;  // --set section.field=value, in order
 };
 void AddEngineOptions(CLI::App* command, EngineOptions* options);
 
 // The config of a command: `base` (the defaults unless a command has its own), replaced by
-// --config (whose missing fields keep the defaults), then overridden by --backend / --threads /
-// --opencl-wait / --opencl-devices.
-// When the config file has neither a `sensor` section nor a `sensors` list and `log_sensor` is
-// given, the sensor comes from the log. Throws ConfigError.
+// --config (whose missing fields keep the defaults); when the config file has neither a `sensor`
+// section nor a `sensors` list and `log_sensor` is given, the sensor comes from the log; then
+// the --set fields, then --backend / --threads / --opencl-wait / --opencl-devices. Throws
+// ConfigError.
 Config LoadEngineConfig(const EngineOptions& options, const SensorConfig* log_sensor,
                         const Config& base = Config());
 

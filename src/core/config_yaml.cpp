@@ -3,9 +3,12 @@
 // section or field given twice is an error, not a silent choice of one.
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <map>
 #include <set>
+#include <type_traits>
 
 #include "config_table.hpp"
 #include "freespace/config.hpp"
@@ -78,11 +81,23 @@ class YamlReader {
     if (!node_ || !node_.IsMap()) return;
     const YAML::Node value = node_[name];
     if (!value) return;
+    if (value.IsNull()) {  // yaml-cpp would read "null" as a string's text
+      throw ConfigError(Where(KeyOf(name)) + section_ + "." + name + ": no value" +
+                        (std::is_same_v<T, std::string> ? " (write '' for an empty string)" : ""));
+    }
+    // An integer in decimal digits only: yaml-cpp reads 010 as octal 8 and 0x40 as 64.
+    const bool decimal = !std::is_same_v<T, int> || !value.IsScalar() ||
+                         DecimalInteger(value.Scalar());
+    bool ok = decimal;
     try {
-      field = value.as<T>();
+      if (ok) field = value.as<T>();
     } catch (const YAML::Exception&) {
+      ok = false;
+    }
+    if (!ok) {
       throw ConfigError(Where(value) + section_ + "." + name + " = '" + ValueExcerpt(value) +
-                        "': not a valid " + TypeName(field));
+                        "': not a valid " + TypeName(field) +
+                        (decimal ? "" : " (decimal digits, no leading zero)"));
     }
   }
 
@@ -108,6 +123,20 @@ class YamlReader {
   std::string Where(const YAML::Node& value) const {
     const int line = value.Mark().line;
     return line >= 0 ? source_ + ":" + std::to_string(line + 1) + ": " : source_ + ": ";
+  }
+  // The key `name` of the section's mapping (an empty value's mark is where the next token is).
+  YAML::Node KeyOf(const char* name) const {
+    for (const auto& field : node_) {
+      if (field.first.IsScalar() && field.first.Scalar() == name) return field.first;
+    }
+    return node_;
+  }
+  // An optional sign and decimal digits, without a leading zero (0 itself aside).
+  static bool DecimalInteger(const std::string& text) {
+    const std::size_t start = !text.empty() && (text[0] == '-' || text[0] == '+') ? 1 : 0;
+    if (start >= text.size() || (text[start] == '0' && text.size() > start + 1)) return false;
+    return std::all_of(text.begin() + std::ptrdiff_t(start), text.end(),
+                       [](char c) { return c >= '0' && c <= '9'; });
   }
   static const char* TypeName(int) { return "integer"; }
   static const char* TypeName(double) { return "number"; }
@@ -224,7 +253,14 @@ void ReadSensorList(const YAML::Node& list, YamlReader* reader, Config* config) 
 Config Config::FromYaml(const std::string& yaml_text, const std::string& source) {
   YAML::Node root;
   try {
-    root = YAML::Load(yaml_text);
+    // Every document: YAML::Load would read the first and drop any after a `---` or `...`.
+    const std::vector<YAML::Node> documents = YAML::LoadAll(yaml_text);
+    for (std::size_t i = 1; i < documents.size(); ++i) {
+      if (documents[i].IsNull()) continue;  // an empty one, from a stray marker
+      throw ConfigError(Where(source, documents[i]) +
+                        ": a second YAML document: a config is one document (merge the two)");
+    }
+    if (!documents.empty()) root = documents.front();
   } catch (const YAML::Exception& e) {
     throw ConfigError(source + ":" + std::to_string(e.mark.line + 1) +
                       ": not valid YAML: " + io::Excerpt(e.msg, 200));
@@ -245,6 +281,75 @@ Config Config::FromYamlFile(const std::string& path) {
   std::stringstream text;
   text << in.rdbuf();
   return FromYaml(text.str(), path);
+}
+
+namespace {
+
+// `message` of a ConfigError from FromYaml(..., source) without the line number after `source`:
+// the line is that of a document the user never wrote.
+std::string WithoutLine(const std::string& message, const std::string& source) {
+  const std::string prefix = source + ":";
+  if (message.compare(0, prefix.size(), prefix) != 0) return message;
+  std::size_t end = prefix.size();
+  while (end < message.size() && std::isdigit(static_cast<unsigned char>(message[end]))) ++end;
+  if (end == prefix.size() || end >= message.size() || message[end] != ':') return message;
+  return source + message.substr(end);
+}
+
+// One "section.field=value": its section, field and value as YAML reads a plain value, checked
+// alone as a config file's field is (a known name, a value of its type).
+void ParseSetting(const std::string& setting, std::string* section, std::string* field,
+                  YAML::Node* value) {
+  const std::string where = "--set " + io::Excerpt(setting, 80);
+  const std::size_t eq = setting.find('='), dot = setting.find('.');
+  if (eq == std::string::npos || dot == std::string::npos || dot == 0 || dot + 1 >= eq) {
+    throw ConfigError(where + ": expected section.field=value (e.g. polygon.margin_cells=0)");
+  }
+  *section = setting.substr(0, dot);
+  *field = setting.substr(dot + 1, eq - dot - 1);
+  if (*section == "sensors") {
+    throw ConfigError(where + ": a rig's sensors are set in the config file, not by --set");
+  }
+  try {
+    *value = YAML::Load(setting.substr(eq + 1));
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(where + ": not a YAML value: " + io::Excerpt(e.msg, 200));
+  }
+  if (!value->IsScalar()) {
+    throw ConfigError(where + ": the value must be one plain value ('' for an empty string)");
+  }
+  YAML::Node alone;
+  alone[*section][*field] = *value;
+  YAML::Emitter out;
+  out << alone;
+  try {
+    Config::FromYaml(out.c_str(), where);
+  } catch (const ConfigError& e) {
+    throw ConfigError(WithoutLine(e.what(), where));
+  }
+}
+
+}  // namespace
+
+Config WithSettings(const Config& config, const std::vector<std::string>& settings) {
+  if (settings.empty()) return config;
+  YAML::Node root = YAML::Load(config.ToYaml());
+  for (const std::string& setting : settings) {
+    std::string section, field;
+    YAML::Node value;
+    ParseSetting(setting, &section, &field, &value);
+    if (section == "sensor" && config.is_rig()) {
+      throw ConfigError("--set " + io::Excerpt(setting, 80) +
+                        ": the config is a rig of sensors; their fields are set in the config "
+                        "file, not by --set");
+    }
+    root[section][field] = value;
+  }
+  YAML::Emitter out;
+  out << root;
+  Config result = Config::FromYaml(out.c_str(), "--set");
+  result.Validate();
+  return result;
 }
 
 std::vector<std::string> YamlSections(const std::string& yaml_text) {
