@@ -101,4 +101,28 @@ expect 2 bad-value "$bin" run --log "$log" --snapshot-every -3
 expect 2 no-command "$bin"
 expect 0 help "$bin" run --help
 
+# Options that would be read otherwise than written, or not at all, are usage errors: an integer
+# in another base or wrapped into an unsigned one, a number that is not finite, a negative count,
+# a seed or scenario given twice, options the chosen mode does not read.
+expect 2 octal-seed "$bin" simulate --seed 010 --out "$out/x"
+names octal-seed "'010' is not a non-negative integer in decimal digits"
+expect 2 negative-seed "$bin" simulate --seed -1 --out "$out/x"
+expect 2 hex-count "$bin" run --log "$log" --max-scans 0x10 --out "$out/x"
+expect 2 negative-count "$bin" run --log "$log" --max-scans -5 --out "$out/x"
+expect 2 nan-duration "$bin" simulate --duration nan --out "$out/x"
+names nan-duration "'nan' is not a finite number"
+expect 2 inf-bias "$bin" simulate --yaw-rate-bias inf --out "$out/x"
+expect 2 seed-twice "$bin" eval --seeds 1-2,2 --duration 0.1 --out "$out/x"
+names seed-twice "seed 2 given twice"
+expect 2 scenario-twice "$bin" eval --seeds 1 --scenarios urban,urban --duration 0.1 --out "$out/x"
+expect 2 scenarios-alone "$bin" demo --scenarios highway --duration 0.1 --out "$out/x"
+names scenarios-alone "--scenarios requires --seeds"
+expect 2 seeds-and-seed "$bin" eval --seeds 1 --seed 9 --duration 0.1 --out "$out/x"
+expect 2 log-and-sim "$bin" eval --log "$log" --truth "$out/sim/truth.json" --duration 0.2 \
+  --out "$out/x"
+names log-and-sim "--log excludes --duration"
+expect 2 bench-log-and-sim "$bin" bench --log "$log" --seed 7 --out "$out/x"
+expect 2 rig-soak "$bin" bench --scenario urban --rig surround --soak 50 --out "$out/x"
+names rig-soak "without --scaling or --soak"
+
 echo "errors_cli: all cases passed"

@@ -264,8 +264,10 @@ Command AddBenchCommand(CLI::App& app) {
   command->add_option("--backends", options->backends, "Backends to time")
       ->check(CLI::IsMember({"all", "tbb", "opencl"}))
       ->capture_default_str();
-  command->add_option("--scans", options->scans, "Use at most this many scans (0: all)");
+  command->add_option("--scans", options->scans, "Use at most this many scans (0: all)")
+      ->check(CLI::Range(0, 1 << 30));
   command->add_option("--warmup", options->warmup, "Scans not timed at the start")
+      ->check(CLI::Range(0, 1 << 30))
       ->capture_default_str();
   command->add_flag("--json", options->json, "Print the report as JSON");
   command->add_flag("--scaling", options->scaling,
@@ -280,7 +282,7 @@ Command AddBenchCommand(CLI::App& app) {
       ->capture_default_str();
   AddSimOptions(command, &options->sim);
   CLI::Option* scenario = command->get_option("--scenario");
-  log->excludes(scenario);
+  ExcludeSimOptions(command, log);  // the log is the drive
   AddEngineOptions(command, &options->engine);
   return {command, [options, scenario] {
             options->scenario = scenario->count() > 0;
@@ -289,9 +291,9 @@ Command AddBenchCommand(CLI::App& app) {
               return kExitSetup;
             }
             if (options->sim.rig != "front") {
-              if (!options->scenario || options->scaling) {
+              if (!options->scenario || options->scaling || options->soak > 0) {
                 std::cerr << "freespace bench: --rig times a simulated drive (--scenario), "
-                             "without --scaling\n";
+                             "without --scaling or --soak\n";
                 return kExitSetup;
               }
               return RunRig(*options);

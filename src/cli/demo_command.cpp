@@ -413,6 +413,7 @@ Command AddDemoCommand(CLI::App& app) {
   AddSaveMapOption(command, &options->save_map);
   AddEngineOptions(command, &options->engine);
   AddSeedOptions(command, &options->seeds);
+  LinkSeedOptions(command);
   return {command, [options] {
             return options->seeds.seeds.empty() ? DemoRun(*options).Run() : DemoSeeds(*options);
           }};

@@ -179,12 +179,15 @@ Command AddEvalCommand(CLI::App& app) {
       "geometry comes from the log. With --seeds instead of --log and --truth: simulates the\n"
       "drives of those seeds (and --scenarios) in memory, scores each and prints the table of\n"
       "means over seeds, worst seed and pooled figures against the aims; writes OUT/seeds.json.");
-  command->add_option("--log", options->log, "Simulated log (sim.fslog or sim.clf)")
-      ->check(CLI::ExistingFile);
+  CLI::Option* log =
+      command->add_option("--log", options->log, "Simulated log (sim.fslog or sim.clf)")
+          ->check(CLI::ExistingFile);
   command->add_option("--truth", options->truth, "Truth file of the same drive (truth.json)")
       ->check(CLI::ExistingFile);
   AddSeedOptions(command, &options->seeds);
   AddSimOptions(command, &options->sim);
+  LinkSeedOptions(command);
+  ExcludeSimOptions(command, log);  // the log is the drive
   command->add_option("--out", options->out, "Output directory")->capture_default_str();
   command->add_flag("--quiet", options->quiet, "Print nothing but errors");
   AddEngineOptions(command, &options->engine);

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "number_checks.hpp"
 #include "freespace/baselines.hpp"
 #include "freespace/log.hpp"
 #include "freespace/version.hpp"
@@ -31,6 +32,7 @@ int main(int argc, char** argv) {
   commands.push_back(freespace::cli::AddSimulateCommand(app));
   commands.push_back(freespace::cli::AddEvalCommand(app));
   commands.push_back(freespace::cli::AddDevicesCommand(app));
+  freespace::cli::CheckNumbers(&app);
 
   try {
     app.parse(argc, argv);

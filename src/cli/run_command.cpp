@@ -424,7 +424,8 @@ Command AddRunCommand(CLI::App& app) {
                    "PNG snapshot every K processed scans (0: only the last)")
       ->check(CLI::Range(0, 1 << 30))
       ->capture_default_str();
-  command->add_option("--max-scans", options->max_scans, "Stop after this many scans (0: all)");
+  command->add_option("--max-scans", options->max_scans, "Stop after this many scans (0: all)")
+      ->check(CLI::Range(0, 1 << 30));
   command->add_flag("--strict", options->strict,
                     "Stop with exit code 1 at the first bad input instead of skipping it");
   command->add_flag("--quiet", options->quiet, "No progress line");

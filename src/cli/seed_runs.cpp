@@ -1,7 +1,9 @@
 // --seeds and --scenarios, the seed table and seeds.json: see seed_runs.hpp.
 #include "seed_runs.hpp"
 
+#include <algorithm>
 #include <cstdio>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -44,8 +46,15 @@ void AddSeedOptions(CLI::App* command, SeedOptions* o) {
                       "--scenario)");
 }
 
+void LinkSeedOptions(CLI::App* command) {
+  CLI::Option* seeds = command->get_option("--seeds");
+  command->get_option("--scenarios")->needs(seeds);
+  seeds->excludes(command->get_option("--seed"));  // each drive's seed is one of --seeds
+}
+
 std::vector<std::uint64_t> ParseSeeds(const std::string& text) {
   std::vector<std::uint64_t> seeds;
+  std::set<std::uint64_t> given;
   for (const std::string& part : Split(text, ',')) {
     const std::size_t dash = part.find('-', 1);
     const std::uint64_t first = Number(part.substr(0, dash), text);
@@ -54,7 +63,14 @@ std::vector<std::uint64_t> ParseSeeds(const std::string& text) {
     if (last < first || last - first >= 100000) {
       throw std::invalid_argument("--seeds '" + text + "': '" + part + "' is not a range");
     }
-    for (std::uint64_t s = first; s <= last; ++s) seeds.push_back(s);
+    for (std::uint64_t s = first;; ++s) {  // to `last` inclusive, which may be the largest
+      if (!given.insert(s).second) {
+        throw std::invalid_argument("--seeds '" + text + "': seed " + std::to_string(s) +
+                                    " given twice (a mean over seeds would count it twice)");
+      }
+      seeds.push_back(s);
+      if (s == last) break;
+    }
   }
   if (seeds.empty()) throw std::invalid_argument("--seeds '" + text + "': no seed");
   return seeds;
@@ -68,6 +84,9 @@ std::vector<std::string> ParseScenarios(const std::string& text, const std::stri
   for (const std::string& s : Split(text, ',')) {
     if (std::find(known.begin(), known.end(), s) == known.end()) {
       throw std::invalid_argument("--scenarios '" + text + "': no scenario '" + s + "'");
+    }
+    if (std::find(out.begin(), out.end(), s) != out.end()) {
+      throw std::invalid_argument("--scenarios '" + text + "': '" + s + "' given twice");
     }
     out.push_back(s);
   }

@@ -19,6 +19,9 @@ struct SeedOptions {
 };
 
 void AddSeedOptions(CLI::App* command, SeedOptions* options);
+// After AddSeedOptions and AddSimOptions: --scenarios needs --seeds, and --seeds excludes --seed
+// (neither would be read otherwise).
+void LinkSeedOptions(CLI::App* command);
 
 // "1-10", "3", "1,4,7-9": the seeds in the order given. Throws std::invalid_argument.
 std::vector<std::uint64_t> ParseSeeds(const std::string& text);

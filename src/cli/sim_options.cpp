@@ -42,6 +42,15 @@ void AddSimOptions(CLI::App* command, SimOptions* o) {
       ->check(CLI::Range(0.0, 1.0));
 }
 
+void ExcludeSimOptions(CLI::App* command, CLI::Option* by) {
+  for (const char* name :
+       {"--scenario", "--seed", "--duration", "--odometry-noise", "--rig", "--speed-scale-error",
+        "--yaw-rate-bias", "--rain-probability", "--ground-echo-probability"}) {
+    CLI::Option* option = command->get_option_no_throw(name);
+    if (option != nullptr && !by->get_excludes().count(option)) by->excludes(option);
+  }
+}
+
 sim::SimulationOptions MakeSimulationOptions(const SimOptions& o) {
   sim::SimulationOptions s;
   s.scenario = o.scenario;
