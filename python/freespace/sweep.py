@@ -58,19 +58,26 @@ def parse_seeds(value):
     """"1-8", "1,3,5-7", an integer or a list of integers: the seeds in the order given."""
     if isinstance(value, int) and not isinstance(value, bool):
         return [value]
-    if isinstance(value, list) and all(isinstance(v, int) and v >= 0 for v in value) and value:
-        return value
+    if isinstance(value, list) and not all(isinstance(v, int) and not isinstance(v, bool) and
+                                           v >= 0 for v in value):
+        raise GridError(f"seeds = {value!r}: give \"1-8\", \"1,3,5-7\" or a list of integers")
     if isinstance(value, str):
         seeds = []
         for part in value.split(","):
-            first, _, last = part.strip().partition("-")
-            if not first.isdigit() or (last and not last.isdigit()):
+            first, dash, last = part.strip().partition("-")
+            if not first.isdigit() or (dash and not last.isdigit()):
                 raise GridError(f"seeds '{value}': '{part}' is not a seed or a range")
             a, b = int(first), int(last or first)
             if b < a:
                 raise GridError(f"seeds '{value}': '{part}' is not a range")
             seeds.extend(range(a, b + 1))
-        return seeds
+        value = seeds
+    if isinstance(value, list) and value:
+        repeated = sorted({s for s in value if value.count(s) > 1})
+        if repeated:
+            raise GridError(f"seeds: {repeated} given more than once (a mean over seeds would "
+                            "count them twice)")
+        return value
     raise GridError(f"seeds = {value!r}: give \"1-8\", \"1,3,5-7\" or a list of integers")
 
 
@@ -118,6 +125,15 @@ def load_grid(path):
     for key, values in out["grid"].items():
         if not isinstance(values, list) or not values:
             raise GridError(f"{path}: grid.{key} must be a non-empty list of values")
+    for key, value in list(out["grid"].items()) + list(out["overrides"].items()):
+        if key == "backend.threads" or (key == "backend" and isinstance(value, dict) and
+                                        "threads" in value):
+            raise GridError(f"{path}: backend.threads is set by --threads-per-task, not the grid")
+    for entry in out["logs"]:
+        scans = entry.get("max_scans", 0)
+        if not isinstance(scans, int) or isinstance(scans, bool) or scans < 0:
+            raise GridError(f"{path}: log {entry['log']}: max_scans = {scans!r}: give an "
+                            "integer >= 0 (0: all)")
     if not out["scenarios"] and not out["logs"]:
         raise GridError(f"{path}: no scenarios and no logs: nothing to run")
     return out
@@ -139,7 +155,7 @@ def make_cases(grid, threads_per_task=1):
         # As freespace eval and demo: a config that sets the sensor keeps it, else the drive's
         # scanner gives it.
         keep_sensor = (_sets_sensor(grid["config"]) or
-                       any(k.startswith("sensor") for k in list(grid["overrides"]) + keys))
+                       any(_names_sensor(k) for k in list(grid["overrides"]) + keys))
         for scenario in grid["scenarios"]:
             for seed in grid["seeds"]:
                 cases.append(dict(common, kind="sim", scenario=scenario, seed=seed,
@@ -161,11 +177,18 @@ def make_cases(grid, threads_per_task=1):
     return cases
 
 
+def _names_sensor(key):
+    """Whether an override key ("sensor", "sensor.mount_x_m") sets the sensor; sensor_model's
+    fields do not."""
+    return key in ("sensor", "sensors") or key.startswith("sensor.")
+
+
 def _sets_sensor(path):
     if not path:
         return False
     with open(path) as f:
-        return "sensor" in (yaml.safe_load(f) or {})
+        sections = yaml.safe_load(f) or {}
+    return "sensor" in sections or "sensors" in sections
 
 
 def _row(case, drive_metrics, stage_us, scans, rejected, started):

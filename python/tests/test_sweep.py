@@ -167,5 +167,39 @@ class SweepTest(unittest.TestCase):
         self.assertIn("unknown field 'polygon.margin_cels'", run.stderr)
 
 
+class GridFileTest(unittest.TestCase):
+    """What a grid file may not do silently: a seed twice or a range without its end, a grid
+    on the threads --threads-per-task sets, a fraction of a scan; and a sensor_model field is
+    not the sensor (the drive's scanner stays the engine's sensor)."""
+
+    def grid(self, text):
+        with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
+            f.write(text)
+        self.addCleanup(os.unlink, f.name)
+        return sweep.load_grid(f.name)
+
+    def test_seeds_are_each_given_once_and_ranges_have_an_end(self):
+        self.assertEqual(sweep.parse_seeds("1-3,7"), [1, 2, 3, 7])
+        for bad in ("1-", "1-2,2", "1-5,5-10", [1, 1], [1, True], "a"):
+            with self.assertRaises(sweep.GridError, msg=repr(bad)):
+                sweep.parse_seeds(bad)
+
+    def test_threads_and_fractional_scans_are_errors(self):
+        for text in ("scenarios: [urban]\ngrid: {backend.threads: [1, 2]}\n",
+                     "scenarios: [urban]\noverrides: {backend: {threads: 2}}\n",
+                     "logs: [{log: x.clf, max_scans: 2.9}]\n",
+                     "logs: [{log: x.clf, max_scans: -1}]\n"):
+            with self.assertRaises(sweep.GridError, msg=text):
+                self.grid(text)
+
+    def test_a_sensor_model_field_keeps_the_drives_sensor(self):
+        cases = sweep.make_cases(self.grid(
+            "scenarios: [urban]\nduration_s: 1\ngrid: {sensor_model.p_free: [0.4]}\n"))
+        self.assertFalse(cases[0]["keep_sensor"])
+        cases = sweep.make_cases(self.grid(
+            "scenarios: [urban]\nduration_s: 1\ngrid: {sensor.mount_x_m: [3.7]}\n"))
+        self.assertTrue(cases[0]["keep_sensor"])
+
+
 if __name__ == "__main__":
     unittest.main()
