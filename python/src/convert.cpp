@@ -7,28 +7,36 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
+#include <set>
 
+#include "core/config_fields.hpp"
 #include "freespace/errors.hpp"
 
 namespace freespace::python {
 namespace {
 
-// A YAML scalar of the config as the Python value it stands for.
-py::object ScalarToPython(const std::string& text) {
-  if (text == "true") return py::bool_(true);
-  if (text == "false") return py::bool_(false);
-  std::size_t used = 0;
-  try {
-    const long long v = std::stoll(text, &used);
-    if (used == text.size()) return py::int_(v);
-  } catch (const std::exception&) {
+// A YAML scalar of the config as the Python value of its field's type (ConfigFieldDocs): a
+// string field stays a str whatever its text ("007", "true").
+py::object ScalarToPython(const std::string& text, const std::string& type) {
+  if (type == "boolean") return py::bool_(text == "true");
+  if (type == "integer") return py::int_(std::stoll(text));
+  if (type == "number") return py::float_(std::stod(text));
+  return py::str(text);  // string, enum
+}
+
+// The fields of one section (or one sensor of a rig's list) as a dict, by their types.
+py::dict SectionToDict(const YAML::Node& section, const std::string& name,
+                       const std::map<std::string, std::string>& types) {
+  py::dict fields;
+  for (const auto& field : section) {
+    const std::string key = field.first.as<std::string>();
+    fields[py::str(key)] = field.second.IsNull()
+                               ? py::none()
+                               : ScalarToPython(field.second.as<std::string>(),
+                                                types.at(name + "." + key));
   }
-  try {
-    const double v = std::stod(text, &used);
-    if (used == text.size()) return py::float_(v);
-  } catch (const std::exception&) {
-  }
-  return py::str(text);
+  return fields;
 }
 
 // A Python value of an override as YAML scalar text; raises TypeError for other types.
@@ -89,6 +97,14 @@ py::object ToPython(const nlohmann::json& value) {
 
 Config WithOverrides(const Config& config, const py::dict& overrides, const std::string& source) {
   YAML::Node root = YAML::Load(config.ToYaml());
+  std::set<std::string> given;  // a field both dotted and in its section's dict: which one?
+  const auto set_field = [&](const std::string& section, const std::string& field,
+                             const py::handle& value) {
+    if (!given.insert(section + "." + field).second) {
+      throw ConfigError(source + ": " + section + "." + field + " is given twice");
+    }
+    SetField(root, section, field, value);
+  };
   for (const auto& [key, value] : overrides) {
     if (!py::isinstance<py::str>(key)) {
       throw py::type_error("config override key " + std::string(py::repr(key)) + ": not a str");
@@ -96,10 +112,10 @@ Config WithOverrides(const Config& config, const py::dict& overrides, const std:
     const std::string name = key.cast<std::string>();
     const std::size_t dot = name.find('.');
     if (dot != std::string::npos) {
-      SetField(root, name.substr(0, dot), name.substr(dot + 1), value);
+      set_field(name.substr(0, dot), name.substr(dot + 1), value);
     } else if (py::isinstance<py::dict>(value)) {
       for (const auto& [field, v] : value.cast<py::dict>()) {
-        SetField(root, name, py::str(field), v);
+        set_field(name, py::str(field), v);
       }
     } else {
       throw py::type_error("config override " + name +
@@ -128,16 +144,19 @@ Config WithOverrides(const Config& config, const py::dict& overrides, const std:
 }
 
 py::dict ConfigToDict(const Config& config) {
+  std::map<std::string, std::string> types;  // "section.field" -> its type
+  for (const ConfigFieldDoc& d : ConfigFieldDocs()) types[d.name] = d.type;
   const YAML::Node root = YAML::Load(config.ToYaml());
   py::dict out;
   for (const auto& section : root) {
-    py::dict fields;
-    for (const auto& field : section.second) {
-      const std::string key = field.first.as<std::string>();
-      fields[py::str(key)] =
-          field.second.IsNull() ? py::none() : ScalarToPython(field.second.as<std::string>());
+    const std::string name = section.first.as<std::string>();
+    if (name == "sensors") {  // a rig: a list of sensors, each with the sensor's fields
+      py::list sensors;
+      for (const auto& sensor : section.second) sensors.append(SectionToDict(sensor, "sensor", types));
+      out[py::str(name)] = sensors;
+    } else {
+      out[py::str(name)] = SectionToDict(section.second, name, types);
     }
-    out[py::str(section.first.as<std::string>())] = fields;
   }
   return out;
 }

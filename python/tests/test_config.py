@@ -63,6 +63,25 @@ class ConfigTest(unittest.TestCase):
         with self.assertRaisesRegex(TypeError, r"section\.field"):
             fs.Config.from_dict({"polygon": 3})
 
+    def test_to_dict_keeps_each_fields_type_and_a_rigs_list(self):
+        c = fs.Config.from_dict({"backend": {"opencl_device": "007", "opencl_platform": "true"}})
+        d = c.to_dict()
+        self.assertEqual(d["backend"]["opencl_device"], "007")  # a str, not the int 7
+        self.assertEqual(d["backend"]["opencl_platform"], "true")
+        self.assertIsInstance(d["map"]["width_cells"], int)
+        self.assertIsInstance(d["map"]["resolution_m"], float)
+        self.assertIs(d["clutter"]["enabled"], True)
+        self.assertEqual(fs.Config.from_dict(d), c)
+        rig = fs.Config.from_yaml_file(os.path.join(source_dir(), "configs", "surround.yaml"))
+        sensors = rig.to_dict()["sensors"]
+        self.assertEqual([s["name"] for s in sensors],
+                         ["front_left", "front_right", "rear_left", "rear_right"])
+        self.assertEqual(sensors[0]["mount_x_m"], 3.7)
+
+    def test_a_field_given_twice_is_an_error(self):
+        with self.assertRaisesRegex(fs.ConfigError, r"map\.width_cells is given twice"):
+            fs.Config.from_dict({"map.width_cells": 100, "map": {"width_cells": 200}})
+
     def test_pickles(self):
         c = fs.Config.from_dict({"classify.vehicle_width_m": 0.4})
         self.assertEqual(pickle.loads(pickle.dumps(c)), c)
