@@ -60,6 +60,14 @@ check_map "$out/maps/run" 300 300 0.2
 "$bin" demo --scenario parking --duration 1 --seed 3 --no-video --quiet --out "$out/demo" \
   --save-map "$out/demo/map" >"$out/demo.txt" 2>&1 || fail "demo --save-map: $(cat "$out/demo.txt")"
 check_map "$out/demo/map" 300 300 0.2
+# demo --seeds: each drive's map under its own prefix, none overwritten.
+"$bin" demo --seeds 3-4 --scenario parking --duration 0.5 --quiet --out "$out/demo-seeds" \
+  --save-map "$out/demo-seeds/map" >"$out/demo-seeds.txt" 2>&1 ||
+  fail "demo --seeds --save-map: $(cat "$out/demo-seeds.txt")"
+check_map "$out/demo-seeds/map-parking-3" 300 300 0.2
+check_map "$out/demo-seeds/map-parking-4" 300 300 0.2
+cmp -s "$out/demo-seeds/map-parking-3.npy" "$out/demo-seeds/map-parking-4.npy" &&
+  fail "two drives' maps are the same file"
 
 # An unwritable prefix: exit 2 with a message naming the file.
 "$bin" run --log "$out/sim/sim.fslog" --out "$out/run2" --quiet --save-map /proc/no/such/map \

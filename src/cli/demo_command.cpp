@@ -355,6 +355,10 @@ int DemoSeeds(const DemoOptions& options) {
       one.out = options.out + "/" + scenario + "-" + std::to_string(seed);
       one.no_video = true;
       one.snapshot_every = 0;
+      // Each drive's map under a prefix of its own: one prefix would keep the last drive's only.
+      if (!options.save_map.empty()) {
+        one.save_map = options.save_map + "-" + scenario + "-" + std::to_string(seed);
+      }
       DemoRun run(one);
       if (const int code = run.Run(); code != kExitOk) return code;
       drives.push_back(run.Evaluation());
