@@ -124,5 +124,10 @@ names log-and-sim "--log excludes --duration"
 expect 2 bench-log-and-sim "$bin" bench --log "$log" --seed 7 --out "$out/x"
 expect 2 rig-soak "$bin" bench --scenario urban --rig surround --soak 50 --out "$out/x"
 names rig-soak "without --scaling or --soak"
+expect 2 topic-not-bag run --out "$out/x" --scan-topic /scan
+names topic-not-bag "--scan-topic does not apply to a freespace log"
+expect 2 layers-not-kitti run --out "$out/x" --kitti-layers=-1,1
+names layers-not-kitti "--kitti-layers does not apply to a freespace log"
+expect 2 frame-without-bag run --out "$out/x" --out-bag-frame map
 
 echo "errors_cli: all cases passed"

@@ -63,6 +63,8 @@ class LogReader {
   // A rig's reference point and footprint when the log gives them (else the defaults).
   const RigConfig& rig() const { return rig_vehicle_; }
   const std::string& path() const { return path_; }
+  // The log's format (never kAuto).
+  LogFormat format() const { return format_; }
 
   // Issues found since the last call.
   std::vector<LogIssue> TakeIssues();

@@ -38,38 +38,52 @@ void CheckLayerCut(const BagCliOptions& o) {
   throw InputError("--kitti-layers " + given.str() + ": " + why);
 }
 
+// Throws InputError when an option of `options` was given: it does not apply to `what`.
+void RefuseGiven(const std::vector<const CLI::Option*>& options, const std::string& what) {
+  for (const CLI::Option* option : options) {
+    if (option->count() > 0) {
+      throw InputError(option->get_name() + " does not apply to " + what);
+    }
+  }
+}
+
 }  // namespace
 
 void AddBagOptions(CLI::App* command, BagCliOptions* o) {
-  command->add_option("--scan-topic", o->scan_topic,
+  CLI::Option* scan_topic = command->add_option("--scan-topic", o->scan_topic,
                       "ROS bag: the sensor_msgs/LaserScan or sensor_msgs/PointCloud2 topic (when\n"
                       "the bag has several); several LaserScan topics with commas: a rig");
-  command->add_option("--odom-topic", o->odom_topic,
+  CLI::Option* odom_topic = command->add_option("--odom-topic", o->odom_topic,
                       "ROS bag: the nav_msgs/Odometry topic (when several; none: poses from /tf)");
-  command->add_option("--base-frame", o->base_frame,
+  CLI::Option* base_frame = command->add_option("--base-frame", o->base_frame,
                       "ROS bag: the vehicle frame (default: Odometry's child_frame_id, or\n"
                       "base_link on /tf)");
-  command->add_option("--out-bag", o->out_bag,
+  CLI::Option* out_bag = command->add_option("--out-bag", o->out_bag,
                       "Write a ROS bag: per scan /freespace/map (nav_msgs/OccupancyGrid) and\n"
                       "/freespace/polygon (geometry_msgs/PolygonStamped), stamped like the scan");
   command->add_option("--out-bag-frame", o->out_bag_frame, "frame_id of the --out-bag messages")
+      ->needs(out_bag)
       ->capture_default_str();
-  command
-      ->add_option("--kitti-layers", o->layer_elevations_deg,
+  CLI::Option* layers =
+      command
+          ->add_option("--kitti-layers", o->layer_elevations_deg,
                    "KITTI frames and point clouds without ring field: the elevation (deg) of\n"
                    "each cut layer, increasing, comma-separated (--kitti-layers=-1.2,-0.4,0.4,1.2)")
-      ->delimiter(',')
-      ->capture_default_str();
-  command
-      ->add_option("--kitti-layer-tolerance", o->layer_tolerance_deg,
-                   "A point joins the nearest cut layer within this many degrees, (0, 10]")
-      ->capture_default_str();
-  command
-      ->add_option("--cloud-layers", o->cloud_layers,
+          ->delimiter(',')
+          ->capture_default_str();
+  CLI::Option* tolerance =
+      command
+          ->add_option("--kitti-layer-tolerance", o->layer_tolerance_deg,
+                       "A point joins the nearest cut layer within this many degrees, (0, 10]")
+          ->capture_default_str();
+  CLI::Option* cloud_layers =
+      command->add_option("--cloud-layers", o->cloud_layers,
                    "ROS bag PointCloud2 scans: layers by the ring field (ring r is layer r), by\n"
                    "elevation (--kitti-layers), or auto (ring when the clouds have one)")
       ->check(CLI::IsMember({"auto", "ring", "elevation"}))
       ->capture_default_str();
+  o->bag_only = {scan_topic, odom_topic, base_frame, cloud_layers};
+  o->cut_only = {layers, tolerance};
 }
 
 std::unique_ptr<LogReader> OpenInput(const std::string& path, const LogOptions& log_options,
@@ -79,7 +93,13 @@ std::unique_ptr<LogReader> OpenInput(const std::string& path, const LogOptions& 
     LogOptions options = log_options;
     options.kitti_layer_elevations_deg = bag.layer_elevations_deg;
     options.kitti_layer_tolerance_deg = bag.layer_tolerance_deg;
-    return OpenLog(path, options);
+    std::unique_ptr<LogReader> reader = OpenLog(path, options);
+    const std::string what = std::string("a ") + ToString(reader->format()) + " log (" + path + ")";
+    RefuseGiven(bag.bag_only, what + ", only to a ROS bag");
+    if (reader->format() != LogFormat::kKitti) {
+      RefuseGiven(bag.cut_only, what + ", only to KITTI frames and point clouds");
+    }
+    return reader;
   }
 #ifdef FREESPACE_WITH_ROS
   ros_bag::BagOptions options;

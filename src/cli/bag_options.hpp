@@ -23,6 +23,9 @@ struct BagCliOptions {
   std::vector<double> layer_elevations_deg = {-1.2, -0.4, 0.4, 1.2};  // --kitti-layers
   double layer_tolerance_deg = 0.4;                                   // --kitti-layer-tolerance
   std::string cloud_layers = "auto";                                  // --cloud-layers
+  // The options only a ROS bag reads, and those only a layer cut reads (a KITTI frame or a
+  // point cloud): given for another log, they are refused rather than left unread.
+  std::vector<const CLI::Option*> bag_only, cut_only;
 };
 void AddBagOptions(CLI::App* command, BagCliOptions* options);
 
