@@ -154,6 +154,19 @@ TEST(Io, RobotLaserLinesWithOneTimestampAreTheLayersOfOneScan) {
       << issues[0].message;
 }
 
+// A saturation range the caller gives that is no range is refused, not read as "the log's".
+TEST(Io, CarmenMaxRangeMustBeARange) {
+  const std::string path = TempFile("range.log", Flaser(180, 3.0, 1.0, 1.0));
+  for (const double bad : {-5.0, double(NAN), double(INFINITY)}) {
+    LogOptions options;
+    options.carmen_max_range_m = bad;
+    EXPECT_THROW(OpenLog(path, options), InputError) << bad;
+  }
+  LogOptions options;
+  options.carmen_max_range_m = 50.0;
+  EXPECT_DOUBLE_EQ(OpenLog(path, options)->sensor().max_range_m, 50.0);
+}
+
 // What a skipped CARMEN line may not leave behind: a FLASER line with a field too many (which
 // would shift its pose and time), its ranges in the saturation value or in the next scan, a rear
 // laser whose lines are all unusable, a hexadecimal number.

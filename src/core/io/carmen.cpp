@@ -39,6 +39,11 @@ class CarmenReader final : public LogReader {
   CarmenReader(const std::string& path, const LogOptions& options)
       : LogReader(path, LogFormat::kCarmen), in_(path, std::ios::binary) {
     if (!in_) throw InputError(path + ": cannot open");
+    if (!(options.carmen_max_range_m >= 0.0 && std::isfinite(options.carmen_max_range_m))) {
+      throw InputError(path + ": carmen_max_range_m = " +
+                       std::to_string(options.carmen_max_range_m) +
+                       ": must be a finite range >= 0 (0: the log's largest)");
+    }
     in_.seekg(0, std::ios::end);
     size_ = double(in_.tellg());
     in_.seekg(0);
