@@ -152,7 +152,9 @@ def main(argv=None):
             parser.error(f"--set {item}: expected FIELD=VALUE")
         if field == "sensor" or field.startswith("sensor."):
             parser.error(f"--set {item}: the sensor comes from the log or the --config file")
-        config = config.with_overrides({field: yaml.safe_load(value)})
+        # The text as the engine's own --set reads it (010 is no octal 8, 'true' a bool only for
+        # a boolean field).
+        config = config.with_overrides({field: value})
     report = score_relations(args.log, args.relations, config, args.long_s, keep_sensor)
     print(json.dumps(report, indent=2))
     return 0

@@ -27,6 +27,7 @@ with matplotlib, OUT/tradeoff.png.
 """
 
 import argparse
+import collections
 import csv
 import itertools
 import json
@@ -54,6 +55,10 @@ class GridError(ValueError):
     """The grid file is missing, not YAML, or holds a key or value the sweep does not know."""
 
 
+def _decimal(text):
+    return text.isdigit() and text.isascii() and (text == "0" or not text.startswith("0"))
+
+
 def parse_seeds(value):
     """"1-8", "1,3,5-7", an integer or a list of integers: the seeds in the order given."""
     if isinstance(value, int) and not isinstance(value, bool):
@@ -65,15 +70,16 @@ def parse_seeds(value):
         seeds = []
         for part in value.split(","):
             first, dash, last = part.strip().partition("-")
-            if not first.isdigit() or (dash and not last.isdigit()):
-                raise GridError(f"seeds '{value}': '{part}' is not a seed or a range")
+            if not _decimal(first) or (dash and not _decimal(last)):
+                raise GridError(f"seeds '{value}': '{part}' is not a seed or a range (decimal "
+                                "digits, no leading zero)")
             a, b = int(first), int(last or first)
             if b < a:
                 raise GridError(f"seeds '{value}': '{part}' is not a range")
             seeds.extend(range(a, b + 1))
         value = seeds
     if isinstance(value, list) and value:
-        repeated = sorted({s for s in value if value.count(s) > 1})
+        repeated = sorted(s for s, n in collections.Counter(value).items() if n > 1)
         if repeated:
             raise GridError(f"seeds: {repeated} given more than once (a mean over seeds would "
                             "count them twice)")
@@ -126,8 +132,9 @@ def load_grid(path):
         if not isinstance(values, list) or not values:
             raise GridError(f"{path}: grid.{key} must be a non-empty list of values")
     for key, value in list(out["grid"].items()) + list(out["overrides"].items()):
-        if key == "backend.threads" or (key == "backend" and isinstance(value, dict) and
-                                        "threads" in value):
+        values = value if isinstance(value, list) else [value]  # a grid axis: its values
+        if key == "backend.threads" or (key == "backend" and any(
+                isinstance(v, dict) and "threads" in v for v in values)):
             raise GridError(f"{path}: backend.threads is set by --threads-per-task, not the grid")
     for entry in out["logs"]:
         scans = entry.get("max_scans", 0)

@@ -31,10 +31,9 @@ py::dict SectionToDict(const YAML::Node& section, const std::string& name,
   py::dict fields;
   for (const auto& field : section) {
     const std::string key = field.first.as<std::string>();
-    fields[py::str(key)] = field.second.IsNull()
-                               ? py::none()
-                               : ScalarToPython(field.second.as<std::string>(),
-                                                types.at(name + "." + key));
+    fields[py::str(key)] = field.second.IsNull() ? py::none()
+                                                 : ScalarToPython(field.second.as<std::string>(),
+                                                                  types.at(name + "." + key));
   }
   return fields;
 }
@@ -62,6 +61,24 @@ void SetField(YAML::Node& root, const std::string& section, const std::string& f
     throw py::type_error("config override " + section + "." + field + ": a field, not a section");
   }
   root[section][field] = OverrideText(section + "." + field, value);
+}
+
+// A rig's `sensors` list from a list of dicts of sensor fields.
+YAML::Node SensorList(const py::list& sensors) {
+  YAML::Node list(YAML::NodeType::Sequence);
+  for (std::size_t i = 0; i < sensors.size(); ++i) {
+    const std::string label = "sensors[" + std::to_string(i) + "]";
+    if (!py::isinstance<py::dict>(sensors[i])) {
+      throw py::type_error("config override " + label + ": a dict of sensor fields");
+    }
+    YAML::Node sensor(YAML::NodeType::Map);
+    for (const auto& [field, v] : sensors[i].cast<py::dict>()) {
+      const std::string name = py::str(field);
+      sensor[name] = OverrideText(label + "." + name, v);
+    }
+    list.push_back(sensor);
+  }
+  return list;
 }
 
 }  // namespace
@@ -111,7 +128,10 @@ Config WithOverrides(const Config& config, const py::dict& overrides, const std:
     }
     const std::string name = key.cast<std::string>();
     const std::size_t dot = name.find('.');
-    if (dot != std::string::npos) {
+    if (name == "sensors" && py::isinstance<py::list>(value)) {  // a rig, as to_dict() gives it
+      root.remove("sensor");
+      root["sensors"] = SensorList(value.cast<py::list>());
+    } else if (dot != std::string::npos) {
       set_field(name.substr(0, dot), name.substr(dot + 1), value);
     } else if (py::isinstance<py::dict>(value)) {
       for (const auto& [field, v] : value.cast<py::dict>()) {
@@ -152,7 +172,8 @@ py::dict ConfigToDict(const Config& config) {
     const std::string name = section.first.as<std::string>();
     if (name == "sensors") {  // a rig: a list of sensors, each with the sensor's fields
       py::list sensors;
-      for (const auto& sensor : section.second) sensors.append(SectionToDict(sensor, "sensor", types));
+      for (const auto& sensor : section.second)
+        sensors.append(SectionToDict(sensor, "sensor", types));
       out[py::str(name)] = sensors;
     } else {
       out[py::str(name)] = SectionToDict(section.second, name, types);

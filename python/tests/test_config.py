@@ -77,6 +77,7 @@ class ConfigTest(unittest.TestCase):
         self.assertEqual([s["name"] for s in sensors],
                          ["front_left", "front_right", "rear_left", "rear_right"])
         self.assertEqual(sensors[0]["mount_x_m"], 3.7)
+        self.assertEqual(fs.Config.from_dict(rig.to_dict()), rig)
 
     def test_a_field_given_twice_is_an_error(self):
         with self.assertRaisesRegex(fs.ConfigError, r"map\.width_cells is given twice"):

@@ -180,13 +180,15 @@ class GridFileTest(unittest.TestCase):
 
     def test_seeds_are_each_given_once_and_ranges_have_an_end(self):
         self.assertEqual(sweep.parse_seeds("1-3,7"), [1, 2, 3, 7])
-        for bad in ("1-", "1-2,2", "1-5,5-10", [1, 1], [1, True], "a"):
+        self.assertEqual(len(sweep.parse_seeds("1-100000")), 100000)  # at once, not quadratic
+        for bad in ("1-", "1-2,2", "1-5,5-10", [1, 1], [1, True], "a", "007"):
             with self.assertRaises(sweep.GridError, msg=repr(bad)):
                 sweep.parse_seeds(bad)
 
     def test_threads_and_fractional_scans_are_errors(self):
         for text in ("scenarios: [urban]\ngrid: {backend.threads: [1, 2]}\n",
                      "scenarios: [urban]\noverrides: {backend: {threads: 2}}\n",
+                     "scenarios: [urban]\ngrid: {backend: [{threads: 1}, {threads: 2}]}\n",
                      "logs: [{log: x.clf, max_scans: 2.9}]\n",
                      "logs: [{log: x.clf, max_scans: -1}]\n"):
             with self.assertRaises(sweep.GridError, msg=text):
