@@ -123,8 +123,13 @@ TEST(Config, IntegersAreDecimalEmptyValuesAndSecondDocumentsAreErrors) {
   EXPECT_NE(ErrorOf("polygon:\n  max_vertices: 16\n...\nmap:\n  width_cells: 100\n")
                 .find("a second YAML document"),
             std::string::npos);
-  // A stray marker with nothing after it is no second document.
+  // A stray marker with nothing after or before it is no second document.
   EXPECT_EQ(Config::FromYaml("polygon:\n  max_vertices: 16\n---\n").polygon.max_vertices, 16);
+  EXPECT_EQ(Config::FromYaml("---\n---\npolygon:\n  max_vertices: 16\n").polygon.max_vertices,
+            16);
+  // The hint about bases only where a leading zero makes it one.
+  EXPECT_EQ(ErrorOf("map:\n  width_cells: 100.0\n"),
+            "test.yaml:2: map.width_cells = '100.0': not a valid integer");
 }
 
 // --set section.field=value: applied in order over a config, each checked as a config file's
@@ -146,7 +151,8 @@ TEST(Config, SettingsChangeOneFieldEach) {
     }
     return std::string();
   };
-  EXPECT_EQ(error(road, "polygon.margin=1"), "--set polygon.margin=1: unknown field 'polygon.margin'");
+  EXPECT_EQ(error(road, "polygon.margin=1"),
+            "--set polygon.margin=1: unknown field 'polygon.margin'");
   EXPECT_EQ(error(road, "polygon.max_vertices=010"),
             "--set polygon.max_vertices=010: polygon.max_vertices = '010': not a valid integer "
             "(decimal digits, no leading zero)");

@@ -86,9 +86,10 @@ class YamlReader {
                         (std::is_same_v<T, std::string> ? " (write '' for an empty string)" : ""));
     }
     // An integer in decimal digits only: yaml-cpp reads 010 as octal 8 and 0x40 as 64.
-    const bool decimal = !std::is_same_v<T, int> || !value.IsScalar() ||
-                         DecimalInteger(value.Scalar());
+    const bool decimal =
+        !std::is_same_v<T, int> || !value.IsScalar() || DecimalInteger(value.Scalar());
     bool ok = decimal;
+    const bool other_base = !decimal && LeadingZero(value.Scalar());
     try {
       if (ok) field = value.as<T>();
     } catch (const YAML::Exception&) {
@@ -97,7 +98,7 @@ class YamlReader {
     if (!ok) {
       throw ConfigError(Where(value) + section_ + "." + name + " = '" + ValueExcerpt(value) +
                         "': not a valid " + TypeName(field) +
-                        (decimal ? "" : " (decimal digits, no leading zero)"));
+                        (other_base ? " (decimal digits, no leading zero)" : ""));
     }
   }
 
@@ -130,6 +131,11 @@ class YamlReader {
       if (field.first.IsScalar() && field.first.Scalar() == name) return field.first;
     }
     return node_;
+  }
+  // A number written with a leading zero (010, 0x40, 0o7), which YAML reads in another base.
+  static bool LeadingZero(const std::string& text) {
+    const std::size_t start = !text.empty() && (text[0] == '-' || text[0] == '+') ? 1 : 0;
+    return text.size() > start + 1 && text[start] == '0' && text[start + 1] != '.';
   }
   // An optional sign and decimal digits, without a leading zero (0 itself aside).
   static bool DecimalInteger(const std::string& text) {
@@ -254,13 +260,17 @@ Config Config::FromYaml(const std::string& yaml_text, const std::string& source)
   YAML::Node root;
   try {
     // Every document: YAML::Load would read the first and drop any after a `---` or `...`.
-    const std::vector<YAML::Node> documents = YAML::LoadAll(yaml_text);
-    for (std::size_t i = 1; i < documents.size(); ++i) {
-      if (documents[i].IsNull()) continue;  // an empty one, from a stray marker
-      throw ConfigError(Where(source, documents[i]) +
-                        ": a second YAML document: a config is one document (merge the two)");
+    // Empty ones (a stray marker) aside.
+    bool found = false;
+    for (const YAML::Node& document : YAML::LoadAll(yaml_text)) {
+      if (document.IsNull()) continue;
+      if (found) {
+        throw ConfigError(Where(source, document) +
+                          ": a second YAML document: a config is one document (merge the two)");
+      }
+      root = document;
+      found = true;
     }
-    if (!documents.empty()) root = documents.front();
   } catch (const YAML::Exception& e) {
     throw ConfigError(source + ":" + std::to_string(e.mark.line + 1) +
                       ": not valid YAML: " + io::Excerpt(e.msg, 200));
@@ -340,8 +350,8 @@ Config WithSettings(const Config& config, const std::vector<std::string>& settin
     ParseSetting(setting, &section, &field, &value);
     if (section == "sensor" && config.is_rig()) {
       throw ConfigError("--set " + io::Excerpt(setting, 80) +
-                        ": the config is a rig of sensors; their fields are set in the config "
-                        "file, not by --set");
+                        ": the config is a rig of sensors (from the config file or the log): "
+                        "--set does not change a rig's sensors");
     }
     root[section][field] = value;
   }
