@@ -120,8 +120,8 @@ TEST(BadInput, SensorLineNumbersAreCheckedAtTheLine) {
       {"1 -90 90 1 -1 80 0 0 0", "min_range_m"},
   };
   for (const auto& c : cases) {
-    const std::string path = TempFile("badsensor.fslog", "FREESPACE_LOG 1\nSENSOR " +
-                                                             std::string(c.numbers) + "\n");
+    const std::string path =
+        TempFile("badsensor.fslog", "FREESPACE_LOG 1\nSENSOR " + std::string(c.numbers) + "\n");
     try {
       OpenLog(path);
       ADD_FAILURE() << c.numbers << ": expected InputError";
@@ -186,8 +186,9 @@ TEST(BadInput, RobotLaserApertureIsCheckedAtItsLine) {
       ADD_FAILURE() << bad << ": expected InputError";
     } catch (const InputError& e) {
       const std::string what = e.what();
-      EXPECT_NE(what.find("aperture.log:2: ROBOTLASER1: the laser's aperture from this line: sensor."),
-                std::string::npos)
+      EXPECT_NE(
+          what.find("aperture.log:2: ROBOTLASER1: the laser's aperture from this line: sensor."),
+          std::string::npos)
           << what;
     }
   }

@@ -50,25 +50,30 @@ void RefuseGiven(const std::vector<const CLI::Option*>& options, const std::stri
 }  // namespace
 
 void AddBagOptions(CLI::App* command, BagCliOptions* o) {
-  CLI::Option* scan_topic = command->add_option("--scan-topic", o->scan_topic,
-                      "ROS bag: the sensor_msgs/LaserScan or sensor_msgs/PointCloud2 topic (when\n"
-                      "the bag has several); several LaserScan topics with commas: a rig");
-  CLI::Option* odom_topic = command->add_option("--odom-topic", o->odom_topic,
-                      "ROS bag: the nav_msgs/Odometry topic (when several; none: poses from /tf)");
-  CLI::Option* base_frame = command->add_option("--base-frame", o->base_frame,
-                      "ROS bag: the vehicle frame (default: Odometry's child_frame_id, or\n"
-                      "base_link on /tf)");
-  CLI::Option* out_bag = command->add_option("--out-bag", o->out_bag,
-                      "Write a ROS bag: per scan /freespace/map (nav_msgs/OccupancyGrid) and\n"
-                      "/freespace/polygon (geometry_msgs/PolygonStamped), stamped like the scan");
+  CLI::Option* scan_topic = command->add_option(
+      "--scan-topic", o->scan_topic,
+      "ROS bag: the sensor_msgs/LaserScan or sensor_msgs/PointCloud2 topic (when\n"
+      "the bag has several); several LaserScan topics with commas: a rig");
+  CLI::Option* odom_topic = command->add_option(
+      "--odom-topic", o->odom_topic,
+      "ROS bag: the nav_msgs/Odometry topic (when several; none: poses from /tf)");
+  CLI::Option* base_frame =
+      command->add_option("--base-frame", o->base_frame,
+                          "ROS bag: the vehicle frame (default: Odometry's child_frame_id, or\n"
+                          "base_link on /tf)");
+  CLI::Option* out_bag = command->add_option(
+      "--out-bag", o->out_bag,
+      "Write a ROS bag: per scan /freespace/map (nav_msgs/OccupancyGrid) and\n"
+      "/freespace/polygon (geometry_msgs/PolygonStamped), stamped like the scan");
   command->add_option("--out-bag-frame", o->out_bag_frame, "frame_id of the --out-bag messages")
       ->needs(out_bag)
       ->capture_default_str();
   CLI::Option* layers =
       command
-          ->add_option("--kitti-layers", o->layer_elevations_deg,
-                   "KITTI frames and point clouds without ring field: the elevation (deg) of\n"
-                   "each cut layer, increasing, comma-separated (--kitti-layers=-1.2,-0.4,0.4,1.2)")
+          ->add_option(
+              "--kitti-layers", o->layer_elevations_deg,
+              "KITTI frames and point clouds without ring field: the elevation (deg) of\n"
+              "each cut layer, increasing, comma-separated (--kitti-layers=-1.2,-0.4,0.4,1.2)")
           ->delimiter(',')
           ->capture_default_str();
   CLI::Option* tolerance =
@@ -77,11 +82,13 @@ void AddBagOptions(CLI::App* command, BagCliOptions* o) {
                        "A point joins the nearest cut layer within this many degrees, (0, 10]")
           ->capture_default_str();
   CLI::Option* cloud_layers =
-      command->add_option("--cloud-layers", o->cloud_layers,
-                   "ROS bag PointCloud2 scans: layers by the ring field (ring r is layer r), by\n"
-                   "elevation (--kitti-layers), or auto (ring when the clouds have one)")
-      ->check(CLI::IsMember({"auto", "ring", "elevation"}))
-      ->capture_default_str();
+      command
+          ->add_option(
+              "--cloud-layers", o->cloud_layers,
+              "ROS bag PointCloud2 scans: layers by the ring field (ring r is layer r), by\n"
+              "elevation (--kitti-layers), or auto (ring when the clouds have one)")
+          ->check(CLI::IsMember({"auto", "ring", "elevation"}))
+          ->capture_default_str();
   o->bag_only = {scan_topic, odom_topic, base_frame, cloud_layers};
   o->cut_only = {layers, tolerance};
 }

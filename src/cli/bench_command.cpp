@@ -113,6 +113,7 @@ int RunRig(const BenchCommandOptions& options) {
   std::printf("%-8s %-10s %8s %10s %10s %12s %12s\n", "backend", "rig", "cycles", "median_us",
               "p99_us", "preprocess", "update");
   try {
+    RefuseSensorSettings(options.engine, "bench --rig times the simulated rig's own scanners");
     MakeDirectories(options.out);
     const BenchOptions suite = SuiteOptions(options);
     for (const BackendKind kind : suite.backends) {

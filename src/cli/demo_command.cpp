@@ -228,7 +228,7 @@ class DemoRun {
       CloseVideo();
       video_full_ = true;
       std::cerr << "freespace demo: demo.avi stops before scan " << index << " at "
-                << options_.video_max_mb << " MB (--video-max-mb; an AVI file holds at most "
+                << options_.video_max_mb << " MiB (--video-max-mb; an AVI file holds at most "
                 << "4 GiB): no later frames\n";
       return;
     }
@@ -418,6 +418,9 @@ Command AddDemoCommand(CLI::App& app) {
   AddEngineOptions(command, &options->engine);
   AddSeedOptions(command, &options->seeds);
   LinkSeedOptions(command);
+  for (const char* name : {"--video-every", "--video-max-mb", "--snapshot-every"}) {
+    command->get_option("--seeds")->excludes(command->get_option(name));  // no video, no PNGs
+  }
   return {command, [options] {
             return options->seeds.seeds.empty() ? DemoRun(*options).Run() : DemoSeeds(*options);
           }};

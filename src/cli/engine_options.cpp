@@ -98,6 +98,14 @@ bool ConfigSetsSensor(const EngineOptions& options) {
   return false;
 }
 
+void RefuseSensorSettings(const EngineOptions& options, const std::string& what) {
+  for (const std::string& setting : options.settings) {
+    if (setting.rfind("sensor.", 0) == 0) {
+      throw ConfigError("--set " + setting + ": " + what);
+    }
+  }
+}
+
 void MakeDirectories(const std::string& dir) {
   std::error_code error;
   std::filesystem::create_directories(dir, error);

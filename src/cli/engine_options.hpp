@@ -14,10 +14,10 @@ namespace freespace::cli {
 // Options every engine-running command shares.
 struct EngineOptions {
   std::string config_path;
-  std::string backend;      // empty = as configured
-  int threads = -1;         // -1 = as configured
-  std::string opencl_wait;  // empty = as configured
-  int opencl_devices = 0;   // 0 = as configured
+  std::string backend;                // empty = as configured
+  int threads = -1;                   // -1 = as configured
+  std::string opencl_wait;            // empty = as configured
+  int opencl_devices = 0;             // 0 = as configured
   std::vector<std::string> settings;  // --set section.field=value, in order
 };
 void AddEngineOptions(CLI::App* command, EngineOptions* options);
@@ -42,6 +42,10 @@ Config LoadEngineConfig(const EngineOptions& options, const LogSensors& log,
 // Whether the file of --config has a `sensor` section or a `sensors` list (false without
 // --config). Throws ConfigError when it cannot be read.
 bool ConfigSetsSensor(const EngineOptions& options);
+
+// Throws ConfigError when a --set names a sensor field where the command takes the sensor from
+// a simulated drive instead (`what`: the command and why), which would leave it unread.
+void RefuseSensorSettings(const EngineOptions& options, const std::string& what);
 
 // Creates `dir` (and parents); throws OutputError when it cannot.
 void MakeDirectories(const std::string& dir);

@@ -36,6 +36,11 @@ int EvalSeeds(const EvalOptions& options) {
     scenarios = ParseScenarios(options.seeds.scenarios, options.sim.scenario);
     config = LoadEngineConfig(options.engine, nullptr);
     keep_sensor = ConfigSetsSensor(options.engine);
+    if (!keep_sensor) {
+      RefuseSensorSettings(options.engine,
+                           "each drive's scanner is the sensor of eval --seeds (a --config with a "
+                           "sensor section replaces it, and --set then changes that)");
+    }
     MakeDirectories(options.out);
   } catch (const std::exception& e) {
     std::cerr << "freespace eval: " << e.what() << "\n";

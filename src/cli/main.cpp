@@ -3,10 +3,10 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "number_checks.hpp"
 #include "freespace/baselines.hpp"
 #include "freespace/log.hpp"
 #include "freespace/version.hpp"
+#include "number_checks.hpp"
 
 int main(int argc, char** argv) {
   freespace::RegisterBaselines();  // alignment.kind rotate, for configs that ask for it

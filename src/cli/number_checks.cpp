@@ -1,7 +1,6 @@
 // Number checks of the command line: see number_checks.hpp.
 #include "number_checks.hpp"
 
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -21,10 +20,10 @@ std::string DecimalError(const std::string& text, bool sign) {
 
 std::string FiniteError(const std::string& text) {
   char* end = nullptr;
-  errno = 0;
   const double v = std::strtod(text.c_str(), &end);
   if (end == text.c_str() || *end != '\0') return "";  // CLI11 reports what is no number
-  if (!std::isfinite(v) || errno == ERANGE) return "'" + text + "' is not a finite number";
+  // Past the largest double strtod gives infinity; a number too small for one is read as 0.
+  if (!std::isfinite(v)) return "'" + text + "' is not a finite number";
   return "";
 }
 

@@ -29,8 +29,10 @@ std::uint64_t Number(const std::string& text, const std::string& whole) {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (text.empty() || used != text.size() || text[0] == '-' || text[0] == '+') {
-    throw std::invalid_argument("--seeds '" + whole + "': '" + text + "' is not a seed");
+  if (text.empty() || used != text.size() || text[0] == '-' || text[0] == '+' ||
+      (text[0] == '0' && text.size() > 1)) {
+    throw std::invalid_argument("--seeds '" + whole + "': '" + text +
+                                "' is not a seed (decimal digits, no leading zero)");
   }
   return v;
 }
@@ -112,8 +114,8 @@ void PrintSeedTable(std::ostream& out, const nlohmann::json& summary) {
   }
   std::string aims = "  aims (mean, worst seed):";
   for (const QualityAim& a : kQualityAims) {
-    std::snprintf(line, sizeof line, " %s %s %.3g (%.3g);", a.metric, a.at_most ? "<" : ">=",
-                  a.mean, a.worst);
+    std::snprintf(line, sizeof line, " %s %s %.3g (%.3g);", a.metric,
+                  a.at_most ? "<" : ">=", a.mean, a.worst);
     aims += line;
   }
   out << aims << "\n";
@@ -128,9 +130,9 @@ void PrintSeedTable(std::ostream& out, const nlohmann::json& summary) {
 }
 
 void WriteSeeds(const std::string& path, const Config& config, const nlohmann::json& summary) {
-  WriteJson(path, {{"definitions", "docs/metrics.md"},
-                   {"config", config.ToYaml()},
-                   {"scenarios", summary}});
+  WriteJson(
+      path,
+      {{"definitions", "docs/metrics.md"}, {"config", config.ToYaml()}, {"scenarios", summary}});
 }
 
 }  // namespace freespace::cli

@@ -40,8 +40,8 @@ class CarmenReader final : public LogReader {
       : LogReader(path, LogFormat::kCarmen), in_(path, std::ios::binary) {
     if (!in_) throw InputError(path + ": cannot open");
     if (!(options.carmen_max_range_m >= 0.0 && std::isfinite(options.carmen_max_range_m))) {
-      throw InputError(path + ": carmen_max_range_m = " +
-                       std::to_string(options.carmen_max_range_m) +
+      throw InputError(path +
+                       ": carmen_max_range_m = " + std::to_string(options.carmen_max_range_m) +
                        ": must be a finite range >= 0 (0: the log's largest)");
     }
     in_.seekg(0, std::ios::end);
