@@ -162,9 +162,12 @@ TEST(Io, CarmenMaxRangeMustBeARange) {
     options.carmen_max_range_m = bad;
     EXPECT_THROW(OpenLog(path, options), InputError) << bad;
   }
-  LogOptions options;
-  options.carmen_max_range_m = 50.0;
-  EXPECT_DOUBLE_EQ(OpenLog(path, options)->sensor().max_range_m, 50.0);
+  // The sensor says the range the lines are read with, however short.
+  for (const double range : {50.0, 0.5}) {
+    LogOptions options;
+    options.carmen_max_range_m = range;
+    EXPECT_DOUBLE_EQ(OpenLog(path, options)->sensor().max_range_m, range);
+  }
 }
 
 // What a skipped CARMEN line may not leave behind: a FLASER line with a field too many (which

@@ -275,7 +275,9 @@ class CarmenReader final : public LogReader {
     for (Surveyed& l : lasers) {
       l.sensor.layers = std::min(l.layers, kMaxLayer + 1);
       l.sensor.min_range_m = 0.0;
-      l.sensor.max_range_m = std::max(max_range_, 1.0);
+      // The range the lines are read with (no echo from max_range_ - kNoEchoMargin on), kept
+      // above the margin a sensor needs (a log whose ranges are all 0).
+      l.sensor.max_range_m = std::max(max_range_, 2 * kNoEchoMargin);
       l.sensor.no_echo_margin_m = kNoEchoMargin;
     }
     if (second_ != kNoSecond && lasers[1].found) {
