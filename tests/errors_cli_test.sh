@@ -137,6 +137,8 @@ names topic-not-bag "--scan-topic does not apply to a freespace log"
 expect 2 layers-not-kitti run --out "$out/x" --kitti-layers=-1,1
 names layers-not-kitti "--kitti-layers does not apply to a freespace log"
 expect 2 frame-without-bag run --out "$out/x" --out-bag-frame map
+expect 2 map-prefix-folder run --out "$out/x" --save-map "$out/maps/"
+names map-prefix-folder "names no file"
 expect 2 seeds-leading-zero "$bin" eval --seeds 007 --duration 0.1 --out "$out/x"
 expect 2 seeds-and-video "$bin" demo --seeds 1 --video-every 4 --duration 0.1 --out "$out/x"
 expect 2 sensor-set-seeds "$bin" eval --seeds 1 --set sensor.max_range_m=5 --duration 0.1 \
