@@ -145,6 +145,9 @@ TEST(MapIo, BadThresholdsAndUnwritablePathsThrow) {
   bad.free_thresh = 0.7;
   EXPECT_THROW(SaveMap(m.View(), ::testing::TempDir() + "/x", bad), std::invalid_argument);
   EXPECT_THROW(SaveMap(m.View(), "/nonexistent-dir/for/sure/map"), OutputError);
+  // A prefix that names no file: it would write hidden files .pgm, .yaml and .npy.
+  EXPECT_THROW(SaveMap(m.View(), ::testing::TempDir() + "/"), std::invalid_argument);
+  EXPECT_THROW(SaveMap(m.View(), ""), std::invalid_argument);
 }
 
 }  // namespace

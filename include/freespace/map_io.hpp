@@ -40,8 +40,8 @@ struct MapFiles {
 };
 
 // Writes the map as PREFIX.pgm + PREFIX.yaml (a map_server map) and PREFIX.npy. Throws
-// std::invalid_argument for bad options or an empty view, InputError when a file cannot be
-// written.
+// std::invalid_argument for bad options, an empty view or a prefix that names no file (empty or
+// ending in '/'), OutputError when a file cannot be written.
 MapFiles SaveMap(const MapView& map, const std::string& prefix, const MapFileOptions& options = {});
 
 // Writes a row-major int16 array as a NumPy .npy file (format 1.0, little-endian '<i2').

@@ -146,6 +146,9 @@ MapFiles SaveMap(const MapView& map, const std::string& prefix, const MapFileOpt
                                 ") < occupied_thresh (" + Decimal(options.occupied_thresh) +
                                 ") < 1");
   }
+  if (prefix.empty() || prefix.back() == '/') {
+    throw std::invalid_argument("SaveMap: prefix '" + prefix + "' names no file");
+  }
   MapFiles files{prefix + ".pgm", prefix + ".yaml", prefix + ".npy"};
   WritePgm(map, files.pgm, options);
   WriteYaml(map, files, options);
