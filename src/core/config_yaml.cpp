@@ -1,6 +1,7 @@
 // Config::FromYaml and the YAML helpers: reading a config file through the field table
 // (config_table.hpp). Every error is a ConfigError naming the file, the line and the field; a
 // section or field given twice is an error, not a silent choice of one.
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <sstream>
 #include <type_traits>
 
 #include "config_table.hpp"
@@ -254,23 +256,60 @@ void ReadSensorList(const YAML::Node& list, YamlReader* reader, Config* config) 
   }
 }
 
+// Whether a YAML document holds anything (a value other than null), and where that starts.
+class DocumentContent final : public YAML::EventHandler {
+ public:
+  bool any = false;
+  YAML::Mark mark;
+  void OnDocumentStart(const YAML::Mark&) override { any = false; }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark& at, YAML::anchor_t) override { Content(at); }
+  void OnScalar(const YAML::Mark& at, const std::string&, YAML::anchor_t,
+                const std::string&) override {
+    Content(at);
+  }
+  void OnSequenceStart(const YAML::Mark& at, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {
+    Content(at);
+  }
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark& at, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {
+    Content(at);
+  }
+  void OnMapEnd() override {}
+
+ private:
+  void Content(const YAML::Mark& at) {
+    if (!any) mark = at;
+    any = true;
+  }
+};
+
+// YAML::Load reads the first document and drops any after a `---` or `...`: the config must be
+// that first one, and those after it empty (a stray marker). The parser is asked for a bounded
+// number of documents: on some malformed texts yaml-cpp's parser reports empty documents
+// forever (YAML::LoadAll never returns there; found by tests/fuzz/fuzz_config).
+void CheckOneDocument(const std::string& yaml_text, const std::string& source) {
+  constexpr int kMaxDocuments = 64;
+  std::istringstream in(yaml_text);
+  YAML::Parser parser(in);
+  DocumentContent content;
+  for (int i = 0; i < kMaxDocuments && parser.HandleNextDocument(content); ++i) {
+    if (i == 0 || !content.any) continue;
+    throw ConfigError(source + ":" + std::to_string(content.mark.line + 1) +
+                      ": a second YAML document: a config is one document (merge the two)");
+  }
+}
+
 }  // namespace
 
 Config Config::FromYaml(const std::string& yaml_text, const std::string& source) {
   YAML::Node root;
   try {
-    // Every document: YAML::Load would read the first and drop any after a `---` or `...`.
-    // Empty ones (a stray marker) aside.
-    bool found = false;
-    for (const YAML::Node& document : YAML::LoadAll(yaml_text)) {
-      if (document.IsNull()) continue;
-      if (found) {
-        throw ConfigError(Where(source, document) +
-                          ": a second YAML document: a config is one document (merge the two)");
-      }
-      root = document;
-      found = true;
-    }
+    root = YAML::Load(yaml_text);
+    CheckOneDocument(yaml_text, source);
   } catch (const YAML::Exception& e) {
     throw ConfigError(source + ":" + std::to_string(e.mark.line + 1) +
                       ": not valid YAML: " + io::Excerpt(e.msg, 200));
