@@ -13,10 +13,11 @@
 namespace freespace::cli {
 
 void AddSaveMapOption(CLI::App* command, std::string* prefix) {
-  command->add_option("--save-map", *prefix,
-                      "After the last scan, write the local map as PREFIX.pgm + PREFIX.yaml (a\n"
-                      "map_server map: trinary, occupied p > 0.65, free p < 0.196) and its raw\n"
-                      "log-odds as PREFIX.npy (int16, row 0 south); see docs/formats.md")
+  command
+      ->add_option("--save-map", *prefix,
+                   "After the last scan, write the local map as PREFIX.pgm + PREFIX.yaml (a\n"
+                   "map_server map: trinary, occupied p > 0.65, free p < 0.196) and its raw\n"
+                   "log-odds as PREFIX.npy (int16, row 0 south); see docs/formats.md")
       ->check(CLI::Validator(
           [](std::string& prefix) -> std::string {
             if (prefix.empty() || prefix.back() == '/') {
