@@ -12,7 +12,6 @@
 #include <fstream>
 #include <string>
 
-#include "freespace/config.hpp"
 #include "freespace/errors.hpp"
 #include "readers.hpp"
 #include "text.hpp"
@@ -226,11 +225,7 @@ class CarmenReader final : public LogReader {
       laser->sensor.min_angle_deg = start * kRadToDeg;
       laser->sensor.angular_resolution_deg = res * kRadToDeg;
       laser->sensor.max_angle_deg = (start + double(n - 1) * res) * kRadToDeg;
-      try {
-        ValidateSensor(laser->sensor);
-      } catch (const ConfigError& e) {
-        std::string why = e.what();
-        if (why.rfind("config: ", 0) == 0) why.erase(0, 8);
+      if (const std::string why = SensorProblem(laser->sensor); !why.empty()) {
         throw InputError(path_ + ":" + std::to_string(line_no) + ": " + std::string(fields_[0]) +
                          ": the laser's aperture from this line: " + why);
       }

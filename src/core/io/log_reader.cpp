@@ -3,6 +3,7 @@
 #include <fstream>
 #include <string>
 
+#include "freespace/config.hpp"
 #include "freespace/errors.hpp"
 #include "freespace/io.hpp"
 #include "readers.hpp"
@@ -108,6 +109,16 @@ std::unique_ptr<LogReader> OpenLog(const std::string& path, const LogOptions& op
       break;
   }
   throw InputError(path + ": unknown log format");
+}
+
+std::string io::SensorProblem(const SensorConfig& sensor) {
+  try {
+    ValidateSensor(sensor);
+  } catch (const ConfigError& e) {
+    const std::string why = e.what();
+    return why.rfind("config: ", 0) == 0 ? why.substr(8) : why;
+  }
+  return "";
 }
 
 }  // namespace freespace

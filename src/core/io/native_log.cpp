@@ -17,7 +17,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "freespace/config.hpp"
 #include "freespace/errors.hpp"
 #include "freespace/io.hpp"
 #include "readers.hpp"
@@ -175,11 +174,8 @@ class NativeReader final : public LogReader {
     s.mount_y_m = v[7];
     s.mount_yaw_deg = v[8];
     s.sweep_s = v[9];
-    try {
-      ValidateSensor(s);  // a bad number is the log's, named at its line
-    } catch (const ConfigError& e) {
-      std::string why = e.what();
-      if (why.rfind("config: ", 0) == 0) why.erase(0, 8);
+    // A bad number is the log's, named at its line.
+    if (const std::string why = SensorProblem(s); !why.empty()) {
       throw InputError(Where() + "SENSOR: " + why);
     }
     rig_.push_back(s);

@@ -14,4 +14,8 @@ std::unique_ptr<LogReader> OpenKitti(const std::string& path, const LogOptions& 
 std::unique_ptr<LogReader> OpenKittiSequence(const std::string& dir, const LogOptions& options);
 std::unique_ptr<LogReader> OpenNative(const std::string& path, const LogOptions& options);
 
+// Why a sensor a log gives cannot be used ("sensor.max_range_m = 4: must be > ..."), or "":
+// ValidateSensor's message without its "config: ", for the reader to name its line.
+std::string SensorProblem(const SensorConfig& sensor);
+
 }  // namespace freespace::io
