@@ -232,6 +232,12 @@ void BagReader::Load() {
     throw InputError(path_ + ": no " + std::string(kLaserScan) + " or " + kPointCloud2 + " topic");
   }
   clouds_ = types[scan_topic] == kPointCloud2;
+  if (!clouds_ && options_.cloud_layers != CloudLayers::kAuto) {
+    throw InputError(path_ + ": layers by " +
+                     (options_.cloud_layers == CloudLayers::kRing ? "ring" : "elevation") +
+                     " asked for, but the scans are " + std::string(kLaserScan) +
+                     " messages (one layer each), not point clouds");
+  }
   const std::string odom_topic =
       ChooseTopic(types, {kOdometry}, options_.odom_topic, "--odom-topic", path_);
   ReadPoses(odom_topic);
@@ -370,6 +376,7 @@ void BagReader::TakeCloudSensor(const sensor_msgs::PointCloud2& first) {
                      "ring field");
   }
   by_ring_ = has_ring && options_.cloud_layers != CloudLayers::kElevation;
+  cuts_by_elevation_ = !by_ring_;
   sensor_ = SensorConfig{};
   sensor_.layers = int(options_.layer_elevations_deg.size());
   if (by_ring_) {

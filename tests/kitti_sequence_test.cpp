@@ -138,6 +138,7 @@ std::string Issues(LogReader& reader) {
 TEST(KittiSequence, FramesComeAtThePosesOfTheMatrices) {
   const std::string dir = WriteSequence("good", {});
   auto reader = OpenLog(dir);
+  EXPECT_TRUE(reader->cuts_by_elevation());
   const SensorConfig& s = reader->sensor();
   EXPECT_EQ(s.layers, 4);
   EXPECT_NEAR(s.mount_x_m, kMountX, 1e-9);

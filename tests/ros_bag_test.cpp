@@ -146,7 +146,15 @@ TEST(RosBag, LaserScanWithOdometryAndStaticMount) {
   const std::string path = WriteDrive("odom.bag", true);
   EXPECT_TRUE(ros_bag::IsRosBag(path));
   auto reader = ros_bag::OpenRosBag(path);
+  EXPECT_FALSE(reader->cuts_by_elevation()) << "LaserScan beams are one layer";
   ExpectDriveScans(*reader);
+  // Layers by ring or elevation are for point clouds: asked of LaserScan scans, an error.
+  for (ros_bag::CloudLayers layers :
+       {ros_bag::CloudLayers::kRing, ros_bag::CloudLayers::kElevation}) {
+    ros_bag::BagOptions options;
+    options.cloud_layers = layers;
+    EXPECT_THROW(ros_bag::OpenRosBag(path, options), InputError);
+  }
   // The estimator takes the bag's sensor geometry and counts the REP 117 beams.
   Config config = test::SmallConfig(100, 100, 0.2);
   config.sensor = ros_bag::OpenRosBag(path)->sensor();

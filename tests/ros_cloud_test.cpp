@@ -180,6 +180,7 @@ TEST(RosCloud, RingsAreLayersWithTheNearestPointPerBin) {
         WriteBag("rings.bag", [&](int, double t) { return MakeCloud(t, Scene(), spec); });
     auto reader = ros_bag::OpenRosBag(path);
     EXPECT_EQ(reader->sensor().layers, 4);
+    EXPECT_FALSE(reader->cuts_by_elevation()) << "layers by ring";
     EXPECT_NEAR(reader->sensor().mount_x_m, 1.2, 1e-12);
     Scan scan;
     for (int i = 0; i < 3; ++i) {
@@ -202,6 +203,7 @@ TEST(RosCloud, WithoutRingTheLayersComeByElevation) {
   auto reader = ros_bag::OpenRosBag(
       WriteBag("elevation.bag", [&](int, double t) { return MakeCloud(t, Scene(), spec); }));
   EXPECT_EQ(reader->sensor().layers, 4);
+  EXPECT_TRUE(reader->cuts_by_elevation());
   Scan scan;
   ASSERT_TRUE(reader->Next(&scan));
   // The ground point is below the cut; the farther point behind layer 0 is hidden.
@@ -213,6 +215,7 @@ TEST(RosCloud, WithoutRingTheLayersComeByElevation) {
   auto by_elevation = ros_bag::OpenRosBag(
       WriteBag("rings2.bag", [&](int, double t) { return MakeCloud(t, Scene(), {}); }), options);
   EXPECT_EQ(by_elevation->sensor().layers, 2);
+  EXPECT_TRUE(by_elevation->cuts_by_elevation());
   ASSERT_TRUE(by_elevation->Next(&scan));
   ExpectLayers(scan, 2, [](int l) { return l == 0 ? 5.0 : 12.0; });
   options.cloud_layers = ros_bag::CloudLayers::kRing;

@@ -65,6 +65,9 @@ class LogReader {
   const std::string& path() const { return path_; }
   // The log's format (never kAuto).
   LogFormat format() const { return format_; }
+  // Whether its scans are cut into layers by elevation (LogOptions::kitti_layer_*): KITTI
+  // frames, and ROS bag point clouds without a ring field or with layers by elevation asked for.
+  bool cuts_by_elevation() const { return cuts_by_elevation_; }
 
   // Issues found since the last call.
   std::vector<LogIssue> TakeIssues();
@@ -79,6 +82,7 @@ class LogReader {
   SensorConfig sensor_;
   std::vector<SensorConfig> rig_;  // several sensors, the first also in sensor_; else empty
   RigConfig rig_vehicle_;
+  bool cuts_by_elevation_ = false;
 
  private:
   std::vector<LogIssue> issues_;

@@ -47,6 +47,13 @@ void RefuseGiven(const std::vector<const CLI::Option*>& options, const std::stri
   }
 }
 
+// The layer cut's options are read only where the scans are cut by elevation.
+void RefuseUncut(const LogReader& reader, const BagCliOptions& bag, const std::string& what) {
+  if (!reader.cuts_by_elevation()) {
+    RefuseGiven(bag.cut_only, what + ", only to KITTI frames and point clouds cut by elevation");
+  }
+}
+
 }  // namespace
 
 void AddBagOptions(CLI::App* command, BagCliOptions* o) {
@@ -103,9 +110,7 @@ std::unique_ptr<LogReader> OpenInput(const std::string& path, const LogOptions& 
     std::unique_ptr<LogReader> reader = OpenLog(path, options);
     const std::string what = std::string("a ") + ToString(reader->format()) + " log (" + path + ")";
     RefuseGiven(bag.bag_only, what + ", only to a ROS bag");
-    if (reader->format() != LogFormat::kKitti) {
-      RefuseGiven(bag.cut_only, what + ", only to KITTI frames and point clouds");
-    }
+    RefuseUncut(*reader, bag, what);
     return reader;
   }
 #ifdef FREESPACE_WITH_ROS
@@ -118,7 +123,11 @@ std::unique_ptr<LogReader> OpenInput(const std::string& path, const LogOptions& 
   options.cloud_layers = bag.cloud_layers == "ring"        ? ros_bag::CloudLayers::kRing
                          : bag.cloud_layers == "elevation" ? ros_bag::CloudLayers::kElevation
                                                            : ros_bag::CloudLayers::kAuto;
-  return ros_bag::OpenRosBag(path, options);
+  std::unique_ptr<LogReader> reader = ros_bag::OpenRosBag(path, options);
+  RefuseUncut(*reader, bag,
+              "a ROS bag (" + path +
+                  ") of LaserScan messages or of point clouds layered by their ring field");
+  return reader;
 #else
   (void)bag;
   throw InputError(path + ": a ROS bag, but " + kNoRos);

@@ -89,6 +89,7 @@ class KittiReader final : public LogReader {
  public:
   KittiReader(const std::string& path, const LogOptions& options)
       : LogReader(path, LogFormat::kKitti) {
+    cuts_by_elevation_ = true;
     sensor_ = KittiSensor(options, path);
     LayerCut cut(sensor_, options.kitti_layer_elevations_deg, options.kitti_layer_tolerance_deg);
     std::vector<std::string> problems;

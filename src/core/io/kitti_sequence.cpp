@@ -65,6 +65,7 @@ class KittiSequenceReader final : public LogReader {
       : LogReader(dir, LogFormat::kKitti),
         cut_(KittiSensor(options, dir), options.kitti_layer_elevations_deg,
              options.kitti_layer_tolerance_deg) {
+    cuts_by_elevation_ = true;
     sensor_ = KittiSensor(options, dir);
     ListFrames();
     ReadPoses();
