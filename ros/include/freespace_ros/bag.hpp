@@ -30,7 +30,9 @@ struct BagOptions {
   // or in a gap between two samples) is skipped and reported.
   double max_pose_gap_s = 0.5;
   // PointCloud2 scans: layers by ring or elevation, and the elevation cut (as
-  // LogOptions::kitti_layer_elevations_deg / kitti_layer_tolerance_deg).
+  // LogOptions::kitti_layer_elevations_deg / kitti_layer_tolerance_deg). kRing or kElevation
+  // for a bag of LaserScan scans is an InputError; LogReader::cuts_by_elevation() says whether
+  // the cut is read.
   CloudLayers cloud_layers = CloudLayers::kAuto;
   std::vector<double> layer_elevations_deg = {-1.2, -0.4, 0.4, 1.2};
   double layer_tolerance_deg = 0.4;
