@@ -99,10 +99,10 @@ struct Sink {
 // The cells within t of the segment a-b (a == b: of a point), into the sink's near list; those it
 // touches, into its seen list.
 inline void AddPiece(const P& a, const P& b, double t, int width, int height, Sink* sink) {
-  const int c0 = std::max(0, int(std::floor(std::min(a.x, b.x) - t)));
-  const int c1 = std::min(width - 1, int(std::floor(std::max(a.x, b.x) + t)));
-  const int r0 = std::max(0, int(std::floor(std::min(a.y, b.y) - t)));
-  const int r1 = std::min(height - 1, int(std::floor(std::max(a.y, b.y) + t)));
+  const int c0 = std::max(0, FloorCell(std::min(a.x, b.x) - t));
+  const int c1 = std::min(width - 1, FloorCell(std::max(a.x, b.x) + t));
+  const int r0 = std::max(0, FloorCell(std::min(a.y, b.y) - t));
+  const int r1 = std::min(height - 1, FloorCell(std::max(a.y, b.y) + t));
   const Piece piece(a, b);
   for (int r = r0; r <= r1; ++r) {
     for (int c = c0; c <= c1; ++c) {

@@ -27,18 +27,13 @@
 
 #include "core/backend.hpp"
 #include "core/fan_pull.hpp"
+#include "core/fixed_point.hpp"
 
 namespace freespace {
 namespace {
 
 using fan::Cross;
 using fan::kAreaTolerance;
-
-// floor(x) for |x| < 2^31, without a library call.
-int Floor(double x) {
-  const int i = int(x);
-  return i - (x < i);
-}
 
 // Cells within this distance of an edge are tested: rounding must not hide a crossed one.
 constexpr double kReach = 1e-7;
@@ -91,10 +86,10 @@ void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sen
   if (det <= kAreaTolerance) return;  // no area: the edge runs along its rays
   FanPull bounds;
   const double y0 = std::min(a.y(), b.y()) - kReach, y1 = std::max(a.y(), b.y()) + kReach;
-  const int r0 = std::max(near.row_min, int(Floor(y0)));
-  const int r1 = std::min(near.row_max, int(Floor(y1)));
-  const int c0 = std::max(near.col_min, int(Floor(std::min(a.x(), b.x()) - kReach)));
-  const int c1 = std::min(near.col_max, int(Floor(std::max(a.x(), b.x()) + kReach)));
+  const int r0 = std::max(near.row_min, FloorCell(y0));
+  const int r1 = std::min(near.row_max, FloorCell(y1));
+  const int c0 = std::max(near.col_min, FloorCell(std::min(a.x(), b.x()) - kReach));
+  const int c1 = std::min(near.col_max, FloorCell(std::max(a.x(), b.x()) + kReach));
   if ((r1 - r0 + 1) * (c1 - c0 + 1) <= 6) {
     // A short edge (the common one: two rays on one wall): every cell of its box.
     for (int r = r0; r <= r1; ++r) {
@@ -116,8 +111,8 @@ void InsidePolygonBuilder::PullBetweenRays(const MaskView& mask, const Vec2& sen
       x0 = std::max(x0, std::min(xa, xb));
       x1 = std::min(x1, std::max(xa, xb));
     }
-    const int from = std::max(near.col_min, int(Floor(x0 - kReach)));
-    const int to = std::min(near.col_max, int(Floor(x1 + kReach)));
+    const int from = std::max(near.col_min, FloorCell(x0 - kReach));
+    const int to = std::min(near.col_max, FloorCell(x1 + kReach));
     if (from > to) continue;
     const std::uint64_t* line = mask.bits + std::size_t(r) * mask.words;
     for (int w = from >> 6; w <= to >> 6; ++w) {
@@ -317,7 +312,7 @@ void InsidePolygonBuilder::BetweenRays(const MaskView& mask, const Vec2& sensor,
     const bool x = a.kind == kRayCrossX;
     const Vec2& p = end_[std::size_t(k)];
     const Vec2& q = end_[std::size_t(next)];
-    const int from = Floor(x ? p.y() : p.x()), to = Floor(x ? q.y() : q.x());
+    const int from = FloorCell(x ? p.y() : p.x()), to = FloorCell(x ? q.y() : q.x());
     if (from == to) return;  // one cell next to the line: the one ray a came through
     const int across = (x ? sensor.x() : sensor.y()) < a.line ? a.line - 1 : a.line;
     bool clear = true;

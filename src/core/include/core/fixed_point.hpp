@@ -24,4 +24,11 @@ inline std::int32_t FixedFloorCell(std::int32_t fixed) {
   return fixed >= 0 ? fixed / kFixedOne : -((-fixed + kFixedOne - 1) / kFixedOne);
 }
 
+// floor(x) for |x| < 2^31 (map cells), without a library call: the baseline x86-64 target has
+// no rounding instruction, and std::floor is a call there.
+inline int FloorCell(double x) {
+  const int i = int(x);
+  return i - (x < i);
+}
+
 }  // namespace freespace
