@@ -16,6 +16,7 @@
 #include "engine_options.hpp"
 #include "eval/stage_stats.hpp"
 #include "freespace/freespace.hpp"
+#include "interrupt.hpp"
 #include "output/render.hpp"
 #include "output/report.hpp"
 #include "output/text_file.hpp"
@@ -103,8 +104,12 @@ class LogRun {
  public:
   explicit LogRun(const RunOptions& options) : options_(options) {}
 
+  // Ctrl-C or SIGTERM ends the run after the scan at hand, with every output closed and
+  // summary.json saying so (interrupted_by), and exit code 128 + the signal.
   int Run() {
     if (!Open()) return kExitSetup;
+    const InterruptGuard interrupt;
+    interrupt_ = &interrupt;
     PrintSetup();
     tty_ = isatty(STDERR_FILENO);
     started_ = last_progress_ = Clock::now();
@@ -121,7 +126,7 @@ class LogRun {
       return kExitSetup;
     }
     PrintClosing();
-    return kExitOk;
+    return signal_ != 0 ? ExitCodeOf(signal_) : kExitOk;
   }
 
  private:
@@ -205,6 +210,7 @@ class LogRun {
     Result last;
     bool any = false;
     while (options_.max_scans <= 0 || tally_.scans_read < options_.max_scans) {
+      if ((signal_ = interrupt_->caught()) != 0) break;
       const bool more = cycles_->Next(&cycle);
       if (ReportIssues()) return kExitBadInput;
       if (!more) break;
@@ -363,6 +369,7 @@ class LogRun {
           {"vehicle_outside", t.vehicle_outside}}},
         {"snapshots", t.snapshots},
         {"wall_s", seconds_},
+        {"interrupted_by", signal_ != 0 ? nlohmann::json(SignalName(signal_)) : nlohmann::json()},
         {"stage_us", t.times.Summary()},
     };
     WriteTextFile(options_.out + "/summary.json", summary.dump(2) + "\n");
@@ -372,6 +379,11 @@ class LogRun {
   void PrintClosing() const {
     const RunTally& t = tally_;
     const long skipped = t.Rejected() + t.malformed;
+    if (signal_ != 0) {
+      std::cerr << (tty_ ? "\n" : "") << "freespace run: interrupted by " << SignalName(signal_)
+                << " after " << t.scans_read << " scans of " << options_.log << " ("
+                << int(100.0 * reader_->progress()) << " %); the rest was not read\n";
+    }
     std::cerr << (tty_ ? "\r" : "") << "freespace run: " << t.processed << " scans processed, "
               << skipped << " skipped, median " << t.times.MedianTotal() / 1000.0
               << " ms/scan; wrote " << options_.out << "/"
@@ -389,6 +401,8 @@ class LogRun {
   Warnings warnings_;
   RunTally tally_;
   bool tty_ = false;
+  const InterruptGuard* interrupt_ = nullptr;
+  int signal_ = 0;  // the signal that stopped the run, 0: none
   double seconds_ = 0;
   Clock::time_point started_, last_progress_;
 };
@@ -409,7 +423,9 @@ Command AddRunCommand(CLI::App& app) {
       "Logs: CARMEN (FLASER, ROBOTLASER1), KITTI .bin frames and sequence folders (velodyne/,\n"
       "poses.txt, calib.txt, times.txt), FREESPACE_LOG (docs/formats.md), ROS 1 bags\n"
       "(sensor_msgs/LaserScan or PointCloud2 + nav_msgs/Odometry or /tf).\n"
-      "Without a `sensor` section in --config the sensor geometry comes from the log.");
+      "Without a `sensor` section in --config the sensor geometry comes from the log.\n"
+      "Ctrl-C (SIGINT) or SIGTERM stops the run after the scan at hand: every output is\n"
+      "closed whole, summary.json names the signal (interrupted_by), exit code 128 + signal.");
   command
       ->add_option("--log", options->log,
                    "Log file to process, or a KITTI odometry sequence folder")
