@@ -50,6 +50,15 @@ names run-outdir "$out/a-file/sub: cannot create directory"
 expect 0 run-ok run --out "$out/ok"
 grep -q "wrote $out/ok/polygons.jsonl, summary.json" "$out/run-ok.txt" || fail "run-ok: no closing line"
 
+# A log that is a pipe or a device: refused at once with the reason (reading a FIFO would wait
+# for a writer; a pipe cannot be read twice, as format detection does).
+mkfifo "$out/log.fifo"
+expect 2 run-fifo timeout 60 "$bin" run --log "$out/log.fifo" --out "$out/fifo"
+names run-fifo "$out/log.fifo: a pipe or a device, not a file"
+expect 2 eval-devnull timeout 60 "$bin" eval --log /dev/null --truth "$out/sim/truth.json" \
+  --out "$out/devnull"
+names eval-devnull "/dev/null: a pipe or a device, not a file"
+
 # A log whose clock never advances: the stall is said once, and every scan is used.
 awk '$1=="SCAN"{$2="5.0"} {print}' "$log" >"$out/stalled.fslog"
 "$bin" run --log "$out/stalled.fslog" --backend tbb --quiet --out "$out/stalled" \

@@ -1,6 +1,9 @@
 // Readers and writers: CARMEN FLASER and ROBOTLASER1 (with malformed and truncated lines), the
 // project's own log format round trip, KITTI frames cut into a ScaLa-like scan, and the real
 // logs in the shared data folder; a large KITTI frame read in bounded memory.
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -299,6 +302,35 @@ TEST(Io, UnrecognisedFilesFailWithTheirName) {
     EXPECT_NE(std::string(e.what()).find("e.txt: not a recognised log"), std::string::npos);
   }
   EXPECT_THROW(OpenLog(::testing::TempDir() + "/does-not-exist.log"), InputError);
+}
+
+TEST(Io, APipeOrADeviceIsRefusedBeforeItIsOpened) {
+  // Opening a FIFO for reading would wait for a writer: refused from its status alone, with the
+  // reason, in every format; /dev/null (a device) likewise. A file behind a link is a file.
+  const std::string fifo = ::testing::TempDir() + "/log.fifo";
+  std::remove(fifo.c_str());
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  for (const LogFormat format : {LogFormat::kAuto, LogFormat::kNative, LogFormat::kCarmen}) {
+    LogOptions options;
+    options.format = format;
+    for (const std::string& path : {fifo, std::string("/dev/null")}) {
+      try {
+        OpenLog(path, options);
+        FAIL() << path << " opened as " << ToString(format);
+      } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(path + ": a pipe or a device, not a file"),
+                  std::string::npos)
+            << e.what();
+      }
+    }
+  }
+  std::remove(fifo.c_str());
+  const std::string file = TempFile("linked.log", Flaser(181, 5.0, 1.0, 1.0));
+  const std::string link = ::testing::TempDir() + "/link.log";
+  std::remove(link.c_str());
+  ASSERT_EQ(symlink(file.c_str(), link.c_str()), 0);
+  EXPECT_EQ(OpenLog(link)->format(), LogFormat::kCarmen);
+  std::remove(link.c_str());
 }
 
 TEST(Io, RealCarmenLogs) {

@@ -94,6 +94,11 @@ class LogReader {
 // sequence folder has no frames or no poses.txt, or when the KITTI layer cut is not valid.
 std::unique_ptr<LogReader> OpenLog(const std::string& path, const LogOptions& options = {});
 
+// Throws InputError unless `path` is a regular file or a folder (symbolic links followed): a
+// log is read more than once (its format, then its scans), which a pipe, a socket or a device
+// such as /dev/stdin does not allow. OpenLog() checks it before anything is opened.
+void RequireLogPath(const std::string& path);
+
 const char* ToString(LogFormat format);
 
 // Groups a log's scans into the cycles of a rig (Estimator::ProcessCycle): consecutive scans

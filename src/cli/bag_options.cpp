@@ -103,6 +103,7 @@ void AddBagOptions(CLI::App* command, BagCliOptions* o) {
 std::unique_ptr<LogReader> OpenInput(const std::string& path, const LogOptions& log_options,
                                      const BagCliOptions& bag) {
   CheckLayerCut(bag);
+  RequireLogPath(path);
   if (!LooksLikeBag(path)) {
     LogOptions options = log_options;
     options.kitti_layer_elevations_deg = bag.layer_elevations_deg;

@@ -93,7 +93,18 @@ LogFormat Detect(const std::string& path) {
 
 }  // namespace
 
+void RequireLogPath(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (error) throw InputError(path + ": cannot open: " + error.message());
+  if (fs::is_regular_file(status) || fs::is_directory(status)) return;
+  throw InputError(path + ": a pipe or a device, not a file; a log is read more than once, " +
+                   "so write it to a file first");
+}
+
 std::unique_ptr<LogReader> OpenLog(const std::string& path, const LogOptions& options) {
+  RequireLogPath(path);
   const LogFormat format = options.format == LogFormat::kAuto ? Detect(path) : options.format;
   switch (format) {
     case LogFormat::kCarmen:
