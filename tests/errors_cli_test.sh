@@ -50,6 +50,27 @@ names run-outdir "$out/a-file/sub: cannot create directory"
 expect 0 run-ok run --out "$out/ok"
 grep -q "wrote $out/ok/polygons.jsonl, summary.json" "$out/run-ok.txt" || fail "run-ok: no closing line"
 
+# An output that is an input file (through a link or another path too) is refused before
+# anything is written, the input left as it was.
+cp "$log" "$out/in.fslog" && ln -s "$out/in.fslog" "$out/in-link.fslog"
+printf 'polygon:\n  max_vertices: 64\n' >"$out/in.yaml"
+sum_before=$(cat "$out/in.fslog" "$out/in.yaml" | md5sum)
+expect 2 run-bag-is-log "$bin" run --log "$out/in-link.fslog" --out "$out/same" \
+  --out-bag "$out/./in.fslog"
+names run-bag-is-log "--out-bag would write $out/./in.fslog, the file --log reads"
+expect 2 run-map-is-config run --config "$out/in.yaml" --out "$out/same" --save-map "$out/in"
+names run-map-is-config "--save-map would write $out/in.yaml, the file --config reads"
+# A log in --out under a name of the run's files: not removed as an earlier run's.
+mkdir -p "$out/in-out" && cp "$log" "$out/in-out/polygons.jsonl"
+expect 2 run-log-in-out "$bin" run --log "$out/in-out/polygons.jsonl" --out "$out/in-out"
+names run-log-in-out "--out would write $out/in-out/polygons.jsonl, the file --log reads"
+cmp -s "$log" "$out/in-out/polygons.jsonl" || fail "the log in --out was changed"
+expect 2 demo-map-is-config "$bin" demo --duration 1 --config "$out/in.yaml" --out "$out/same" \
+  --save-map "$out/in" --quiet
+names demo-map-is-config "--save-map would write $out/in.yaml, the file --config reads"
+[ "$(cat "$out/in.fslog" "$out/in.yaml" | md5sum)" = "$sum_before" ] || fail "an input was changed"
+[ ! -e "$out/same" ] || fail "a refused run created its --out folder"
+
 # A log that is a pipe or a device: refused at once with the reason (reading a FIFO would wait
 # for a writer; a pipe cannot be read twice, as format detection does).
 mkfifo "$out/log.fifo"

@@ -39,6 +39,9 @@ struct MapFiles {
                      // row 0 southern like MapView
 };
 
+// The files SaveMap writes at `prefix`.
+MapFiles MapFilesAt(const std::string& prefix);
+
 // Writes the map as PREFIX.pgm + PREFIX.yaml (a map_server map) and PREFIX.npy. Throws
 // std::invalid_argument for bad options, an empty view or a prefix that names no file (empty or
 // ending in '/'), OutputError when a file cannot be written.

@@ -106,6 +106,9 @@ class DemoRun {
   // config.yaml; false (printed) when one fails.
   bool Open() {
     try {
+      std::vector<NamedPath> map_files;
+      AddMapOutputs(options_.save_map, &map_files);
+      RefuseOverwritingInputs({{"--config", options_.engine.config_path}}, map_files);
       simulation_ = std::make_unique<sim::Simulation>(MakeSimulationOptions(options_.sim));
       MakeDirectories(options_.out);
       writer_ = std::make_unique<sim::SimulationWriter>(options_.out, truth());

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "engine_options.hpp"
+#include "freespace/errors.hpp"
 #include "freespace/map_io.hpp"
 #include "output/polygon_text.hpp"
 #include "output/report.hpp"
@@ -26,6 +27,28 @@ void AddSaveMapOption(CLI::App* command, std::string* prefix) {
             return "";
           },
           ""));
+}
+
+void AddMapOutputs(const std::string& prefix, std::vector<NamedPath>* outputs) {
+  if (prefix.empty()) return;
+  const MapFiles files = MapFilesAt(prefix);
+  for (const std::string& path : {files.pgm, files.yaml, files.npy})
+    outputs->push_back({"--save-map", path});
+}
+
+void RefuseOverwritingInputs(const std::vector<NamedPath>& inputs,
+                             const std::vector<NamedPath>& outputs) {
+  for (const NamedPath& out : outputs) {
+    for (const NamedPath& in : inputs) {
+      std::error_code error;  // either missing: not the same file
+      if (out.path.empty() || in.path.empty() ||
+          !std::filesystem::equivalent(out.path, in.path, error) || error) {
+        continue;
+      }
+      throw InputError(out.option + " would write " + out.path + ", the file " + in.option +
+                       " reads (" + in.path + "); give another path");
+    }
+  }
 }
 
 void SaveMapIfAsked(const std::string& prefix, const MapView& map, const std::string& command) {

@@ -5,12 +5,25 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 #include "freespace/result.hpp"
 
 namespace freespace::cli {
 
 void AddSaveMapOption(CLI::App* command, std::string* prefix);
+
+// A file a command reads or writes, and the option that names it.
+struct NamedPath {
+  std::string option, path;
+};
+// Adds the files `--save-map prefix` writes (none when `prefix` is empty).
+void AddMapOutputs(const std::string& prefix, std::vector<NamedPath>* outputs);
+// Throws InputError, before anything is written, when an output is the file an input names
+// (through another path or a link too): the input would be overwritten while or after it is
+// read.
+void RefuseOverwritingInputs(const std::vector<NamedPath>& inputs,
+                             const std::vector<NamedPath>& outputs);
 
 // Writes the map's files at `prefix`, creating its folder, and says on stderr what it wrote;
 // does nothing when `prefix` is empty. Throws InputError when a file cannot be written.

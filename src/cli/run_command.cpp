@@ -146,6 +146,8 @@ class LogRun {
                           std::to_string(config_.sensor_count()));
       }
       cycles_ = std::make_unique<CycleReader>(*reader_, config_.sensor_count());
+      RefuseOverwritingInputs(
+          {{"--log", options_.log}, {"--config", options_.engine.config_path}}, Outputs());
       MakeDirectories(options_.out);
       estimator_ = std::make_unique<Estimator>(config_);
       bag_out_.Open(options_.bag);
@@ -157,6 +159,15 @@ class LogRun {
       return false;
     }
     return true;
+  }
+
+  // The files the run writes, but its snapshots.
+  std::vector<NamedPath> Outputs() const {
+    std::vector<NamedPath> outputs = {{"--out-bag", options_.bag.out_bag}};
+    for (const char* name : {"summary.json", "polygons.jsonl", "polygons.geojsonl"})
+      outputs.push_back({"--out", options_.out + "/" + name});
+    AddMapOutputs(options_.save_map, &outputs);
+    return outputs;
   }
 
   // The files an earlier run left in --out (summary.json, both polygon files, snapshots): a run

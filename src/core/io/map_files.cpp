@@ -138,6 +138,10 @@ void WriteNpyInt16(const std::string& path, const std::int16_t* data, int rows, 
   Finish(out, path);
 }
 
+MapFiles MapFilesAt(const std::string& prefix) {
+  return MapFiles{prefix + ".pgm", prefix + ".yaml", prefix + ".npy"};
+}
+
 MapFiles SaveMap(const MapView& map, const std::string& prefix, const MapFileOptions& options) {
   CheckView(map, "SaveMap");
   if (!(options.free_thresh > 0 && options.free_thresh < options.occupied_thresh &&
@@ -149,7 +153,7 @@ MapFiles SaveMap(const MapView& map, const std::string& prefix, const MapFileOpt
   if (prefix.empty() || prefix.back() == '/') {
     throw std::invalid_argument("SaveMap: prefix '" + prefix + "' names no file");
   }
-  MapFiles files{prefix + ".pgm", prefix + ".yaml", prefix + ".npy"};
+  const MapFiles files = MapFilesAt(prefix);
   WritePgm(map, files.pgm, options);
   WriteYaml(map, files, options);
   WriteNpyInt16(files.npy, map.log_odds, map.height, map.width);
