@@ -146,8 +146,8 @@ class LogRun {
                           std::to_string(config_.sensor_count()));
       }
       cycles_ = std::make_unique<CycleReader>(*reader_, config_.sensor_count());
-      RefuseOverwritingInputs(
-          {{"--log", options_.log}, {"--config", options_.engine.config_path}}, Outputs());
+      RefuseOverwritingInputs({{"--log", options_.log}, {"--config", options_.engine.config_path}},
+                              Outputs());
       MakeDirectories(options_.out);
       estimator_ = std::make_unique<Estimator>(config_);
       bag_out_.Open(options_.bag);
