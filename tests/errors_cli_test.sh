@@ -65,6 +65,17 @@ mkdir -p "$out/in-out" && cp "$log" "$out/in-out/polygons.jsonl"
 expect 2 run-log-in-out "$bin" run --log "$out/in-out/polygons.jsonl" --out "$out/in-out"
 names run-log-in-out "--out would write $out/in-out/polygons.jsonl, the file --log reads"
 cmp -s "$log" "$out/in-out/polygons.jsonl" || fail "the log in --out was changed"
+# A config in --out named like a snapshot, which a run removes as an earlier run's.
+mkdir -p "$out/snap-out" && cp "$out/in.yaml" "$out/snap-out/snapshot_000001.png"
+expect 2 run-config-as-snapshot run --config "$out/snap-out/snapshot_000001.png" --out "$out/snap-out"
+names run-config-as-snapshot "--out would write $out/snap-out/snapshot_000001.png, the file --config"
+cmp -s "$out/in.yaml" "$out/snap-out/snapshot_000001.png" || fail "the config in --out was changed"
+# The demo's own config.yaml given back as its --config, into the same --out.
+mkdir -p "$out/demo-again" && cp "$out/in.yaml" "$out/demo-again/config.yaml"
+expect 2 demo-config-in-out "$bin" demo --duration 1 --config "$out/demo-again/config.yaml" \
+  --out "$out/demo-again" --quiet
+names demo-config-in-out "--out would write $out/demo-again/config.yaml, the file --config reads"
+cmp -s "$out/in.yaml" "$out/demo-again/config.yaml" || fail "the demo's --config was changed"
 expect 2 demo-map-is-config "$bin" demo --duration 1 --config "$out/in.yaml" --out "$out/same" \
   --save-map "$out/in" --quiet
 names demo-map-is-config "--save-map would write $out/in.yaml, the file --config reads"

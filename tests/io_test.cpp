@@ -307,7 +307,8 @@ TEST(Io, UnrecognisedFilesFailWithTheirName) {
 TEST(Io, APipeOrADeviceIsRefusedBeforeItIsOpened) {
   // Opening a FIFO for reading would wait for a writer: refused from its status alone, with the
   // reason, in every format; /dev/null (a device) likewise. A file behind a link is a file.
-  const std::string fifo = ::testing::TempDir() + "/log.fifo";
+  const std::string tag = std::to_string(getpid());
+  const std::string fifo = ::testing::TempDir() + "/log-" + tag + ".fifo";
   std::remove(fifo.c_str());
   ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
   for (const LogFormat format : {LogFormat::kAuto, LogFormat::kNative, LogFormat::kCarmen}) {
@@ -325,8 +326,8 @@ TEST(Io, APipeOrADeviceIsRefusedBeforeItIsOpened) {
     }
   }
   std::remove(fifo.c_str());
-  const std::string file = TempFile("linked.log", Flaser(181, 5.0, 1.0, 1.0));
-  const std::string link = ::testing::TempDir() + "/link.log";
+  const std::string file = TempFile("linked-" + tag + ".log", Flaser(181, 5.0, 1.0, 1.0));
+  const std::string link = ::testing::TempDir() + "/link-" + tag + ".log";
   std::remove(link.c_str());
   ASSERT_EQ(symlink(file.c_str(), link.c_str()), 0);
   EXPECT_EQ(OpenLog(link)->format(), LogFormat::kCarmen);

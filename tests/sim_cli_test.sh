@@ -23,31 +23,39 @@ grep -q '"format": "freespace-truth"' "$out/sim/truth.json" || fail "truth forma
 "$bin" run --log "$out/sim/sim.clf" --out "$out/run-clf" --quiet 2>/dev/null || fail "run on sim.clf"
 [ "$(wc -l <"$out/run-clf/polygons.jsonl")" -eq 26 ] || fail "run on sim.clf: expected 26 lines"
 
-# run, interrupted: Ctrl-C (SIGINT) or SIGTERM soon after the start stops a run of a 30 s drive
-# (a snapshot a scan, several seconds) with exit code 128 + signal; every polygon line is whole
-# JSON, one per processed scan as summary.json counts, and summary.json names the signal. A
-# SIGINT the run was started ignoring (nohup) stays ignored: that run goes to the end.
+# run, interrupted: Ctrl-C (SIGINT) or SIGTERM once the run has written its first polygon
+# lines stops a run of a 30 s drive (a snapshot a scan, several seconds): the run ends by the
+# signal, every polygon line is whole JSON, one per processed scan as summary.json counts, and
+# summary.json names the signal. A SIGINT the run was started ignoring (nohup) stays ignored:
+# that run goes to the end.
 "$bin" simulate --scenario parking --duration 30 --seed 5 --out "$out/long" 2>"$out/long.err" \
   || fail "simulate 30 s failed: $(cat "$out/long.err")"
 python3 - "$bin" "$out" <<'PY' || fail "an interrupted run"
-import json, signal, subprocess, sys
+import json, os, signal, subprocess, sys, time
 
 bin, out = sys.argv[1:3]
 
 def run(name, sig, ignore=False, every="1"):
-    """Starts a run, sends `sig` once it has printed its set-up line; its exit code and summary."""
+    """Starts a run, sends `sig` once polygons.jsonl holds a whole line; its exit status (the
+    negated signal that ended it), summary and stderr."""
+    polygons = out + "/" + name + "/polygons.jsonl"
+    disposition = signal.SIG_IGN if ignore else signal.SIG_DFL
     child = subprocess.Popen(
         [bin, "run", "--log", out + "/long/sim.fslog", "--out", out + "/" + name,
          "--snapshot-every", every, "--quiet"], stderr=subprocess.PIPE, text=True,
-        preexec_fn=(lambda: signal.signal(signal.SIGINT, signal.SIG_IGN)) if ignore else None)
-    first = child.stderr.readline()
-    if "layer(s)" not in first:
-        sys.exit("FAIL: %s: no set-up line: %r" % (name, first))
+        preexec_fn=lambda: signal.signal(signal.SIGINT, disposition))
+    deadline = time.monotonic() + 60
+    while child.poll() is None and time.monotonic() < deadline:
+        if os.path.exists(polygons) and b"\n" in open(polygons, "rb").read():
+            break
+        time.sleep(0.005)
+    if child.poll() is not None:
+        sys.exit("FAIL: %s: the run ended (%d) before the signal" % (name, child.returncode))
     child.send_signal(sig)
     said = child.stderr.read()
     code = child.wait()
     summary = json.load(open(out + "/" + name + "/summary.json"))
-    lines = open(out + "/" + name + "/polygons.jsonl").read().split("\n")
+    lines = open(polygons).read().split("\n")
     if lines[-1] != "":
         sys.exit("FAIL: %s: the last polygon line is cut: %r" % (name, lines[-1][-40:]))
     scans = [json.loads(line)["scan"] for line in lines[:-1]]
@@ -58,13 +66,13 @@ def run(name, sig, ignore=False, every="1"):
 total = sum(1 for line in open(out + "/long/sim.fslog") if line.startswith("SCAN"))
 for sig, name in ((signal.SIGINT, "SIGINT"), (signal.SIGTERM, "SIGTERM")):
     code, summary, said = run("stop-" + name, sig)
-    if code != 128 + sig or summary["interrupted_by"] != name:
-        sys.exit("FAIL: %s: exit %d, interrupted_by %r" % (name, code, summary["interrupted_by"]))
+    if code != -sig or summary["interrupted_by"] != name:
+        sys.exit("FAIL: %s: status %d, interrupted_by %r" % (name, code, summary["interrupted_by"]))
     if not 1 <= summary["scans"] < total or "interrupted by " + name not in said:
         sys.exit("FAIL: %s: %d of %d scans; said %r" % (name, summary["scans"], total, said))
 code, summary, _ = run("ignored", signal.SIGINT, ignore=True, every="0")
 if code != 0 or summary["interrupted_by"] is not None or summary["scans"] != total:
-    sys.exit("FAIL: an ignored SIGINT: exit %d, %d of %d scans" % (code, summary["scans"], total))
+    sys.exit("FAIL: an ignored SIGINT: status %d, %d of %d scans" % (code, summary["scans"], total))
 PY
 
 # eval: scores every scan.

@@ -106,9 +106,12 @@ class DemoRun {
   // config.yaml; false (printed) when one fails.
   bool Open() {
     try {
-      std::vector<NamedPath> map_files;
-      AddMapOutputs(options_.save_map, &map_files);
-      RefuseOverwritingInputs({{"--config", options_.engine.config_path}}, map_files);
+      std::vector<NamedPath> outputs;
+      for (const char* name : {"config.yaml", "polygons.jsonl", "eval.json", "demo.avi",
+                               "sim.fslog", "sim.clf", "truth.json"})
+        outputs.push_back({"--out", options_.out + "/" + name});
+      AddMapOutputs(options_.save_map, &outputs);
+      RefuseOverwritingInputs({{"--config", options_.engine.config_path}}, outputs);
       simulation_ = std::make_unique<sim::Simulation>(MakeSimulationOptions(options_.sim));
       MakeDirectories(options_.out);
       writer_ = std::make_unique<sim::SimulationWriter>(options_.out, truth());

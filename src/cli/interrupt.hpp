@@ -1,12 +1,13 @@
 // Ctrl-C (SIGINT) and SIGTERM as a request to stop: a long command finishes the scan at hand,
-// closes what it writes and says it was interrupted, instead of dying with its files cut short.
+// closes what it writes and says it was interrupted, then ends by the signal, instead of dying
+// with its files cut short.
 #pragma once
 
 namespace freespace::cli {
 
 // While one lives, SIGINT and SIGTERM are caught and remembered (one the process was started
-// ignoring stays ignored); a second signal of the same kind ends the process as it would have
-// without the guard (the handler resets itself). The previous handlers come back when it is
+// ignoring stays ignored); after the first, both have their default action again, so that a
+// second signal ends the process at once. The previous handlers come back when it is
 // destroyed. One at a time.
 class InterruptGuard {
  public:
@@ -19,10 +20,13 @@ class InterruptGuard {
   int caught() const;
 };
 
+// Ends the process by `signal` with its default action (after flushing the standard streams),
+// as if it had not been caught: a calling shell sees the signal (exit status 128 + signal) and
+// stops a script as it would for any other command. Returns 128 + signal should the process
+// survive it.
+int EndBySignal(int signal);
+
 // "SIGINT", "SIGTERM", or "a signal".
 const char* SignalName(int signal);
-
-// The shell's code for a process that a signal ended: 128 + signal.
-inline int ExitCodeOf(int signal) { return 128 + signal; }
 
 }  // namespace freespace::cli

@@ -105,7 +105,7 @@ class LogRun {
   explicit LogRun(const RunOptions& options) : options_(options) {}
 
   // Ctrl-C or SIGTERM ends the run after the scan at hand, with every output closed and
-  // summary.json saying so (interrupted_by), and exit code 128 + the signal.
+  // summary.json saying so (interrupted_by), then by the signal (EndBySignal).
   int Run() {
     if (!Open()) return kExitSetup;
     const InterruptGuard interrupt;
@@ -126,7 +126,10 @@ class LogRun {
       return kExitSetup;
     }
     PrintClosing();
-    return signal_ != 0 ? ExitCodeOf(signal_) : kExitOk;
+    // A signal after the last scan leaves the outputs as they are (whole, interrupted_by null)
+    // but still ends the command.
+    const int signal = signal_ != 0 ? signal_ : interrupt.caught();
+    return signal != 0 ? EndBySignal(signal) : kExitOk;
   }
 
  private:
@@ -161,21 +164,24 @@ class LogRun {
     return true;
   }
 
-  // The files the run writes, but its snapshots.
+  // The files the run writes or removes.
   std::vector<NamedPath> Outputs() const {
     std::vector<NamedPath> outputs = {{"--out-bag", options_.bag.out_bag}};
     for (const char* name : {"summary.json", "polygons.jsonl", "polygons.geojsonl"})
       outputs.push_back({"--out", options_.out + "/" + name});
     AddMapOutputs(options_.save_map, &outputs);
+    for (const std::filesystem::path& p : EarlierRunFiles())
+      outputs.push_back({"--out", p.string()});
     return outputs;
   }
 
-  // The files an earlier run left in --out (summary.json, both polygon files, snapshots): a run
-  // that stops early must not leave them beside its own, looking complete. Says what it removed.
-  void RemoveEarlierRun() const {
+  // The files an earlier run left in --out (summary.json, both polygon files, snapshots), which
+  // the run removes; none while --out does not exist.
+  std::vector<std::filesystem::path> EarlierRunFiles() const {
     namespace fs = std::filesystem;
     std::error_code error;
     std::vector<fs::path> old;
+    if (!fs::exists(options_.out, error) && !error) return old;
     for (fs::directory_iterator it(options_.out, error), end; !error && it != end;
          it.increment(error)) {
       const fs::path& p = it->path();
@@ -189,8 +195,16 @@ class LogRun {
       if (fs::is_regular_file(fs::symlink_status(p, kind)) && !kind) old.push_back(p);
     }
     if (error) throw OutputError(options_.out + ": cannot list: " + error.message());
-    for (const fs::path& p : old) {
-      if (!fs::remove(p, error) && error) {
+    return old;
+  }
+
+  // A run that stops early must not leave an earlier run's files beside its own, looking
+  // complete. Says what it removed.
+  void RemoveEarlierRun() const {
+    const std::vector<std::filesystem::path> old = EarlierRunFiles();
+    for (const std::filesystem::path& p : old) {
+      std::error_code error;
+      if (!std::filesystem::remove(p, error) && error) {
         throw OutputError(p.string() + ": cannot remove an earlier run's file: " + error.message());
       }
     }
@@ -436,7 +450,8 @@ Command AddRunCommand(CLI::App& app) {
       "(sensor_msgs/LaserScan or PointCloud2 + nav_msgs/Odometry or /tf).\n"
       "Without a `sensor` section in --config the sensor geometry comes from the log.\n"
       "Ctrl-C (SIGINT) or SIGTERM stops the run after the scan at hand: every output is\n"
-      "closed whole, summary.json names the signal (interrupted_by), exit code 128 + signal.");
+      "closed whole and summary.json names the signal (interrupted_by); the run then ends by\n"
+      "that signal (a shell sees exit status 128 + signal).");
   command
       ->add_option("--log", options->log,
                    "Log file to process, or a KITTI odometry sequence folder")
