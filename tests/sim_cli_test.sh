@@ -73,6 +73,26 @@ for sig, name in ((signal.SIGINT, "SIGINT"), (signal.SIGTERM, "SIGTERM")):
 code, summary, _ = run("ignored", signal.SIGINT, ignore=True, every="0")
 if code != 0 or summary["interrupted_by"] is not None or summary["scans"] != total:
     sys.exit("FAIL: an ignored SIGINT: status %d, %d of %d scans" % (code, summary["scans"], total))
+
+# eval --seeds: SIGINT once the first drive is scored stops after the drive at hand; seeds.json
+# holds the drives done, in order, and names the signal.
+child = subprocess.Popen(
+    [bin, "eval", "--seeds", "1-4", "--scenarios", "parking", "--duration", "5", "--out",
+     out + "/eval-stop"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+first = child.stdout.readline()
+if "parking seed 1:" not in first:
+    sys.exit("FAIL: eval --seeds: first line %r" % first)
+child.send_signal(signal.SIGINT)
+_, said = child.communicate()
+seeds = json.load(open(out + "/eval-stop/seeds.json"))
+done = seeds["scenarios"][0]["seeds"]
+if child.returncode != -signal.SIGINT or seeds["interrupted_by"] != "SIGINT":
+    sys.exit("FAIL: eval --seeds: status %d, interrupted_by %r" % (child.returncode,
+                                                                  seeds["interrupted_by"]))
+if not 1 <= len(done) < 4 or done != list(range(1, len(done) + 1)) or \
+        "after %d of 4 drives" % len(done) not in said:
+    sys.exit("FAIL: eval --seeds: drives %r; said %r" % (done, said))
 PY
 
 # eval: scores every scan.

@@ -7,6 +7,7 @@
 #include "engine_options.hpp"
 #include "eval/scorer.hpp"
 #include "freespace/freespace.hpp"
+#include "interrupt.hpp"
 #include "quality_report.hpp"
 #include "seed_runs.hpp"
 #include "sim_options.hpp"
@@ -24,8 +25,18 @@ struct EvalOptions {
   SeedOptions seeds;
 };
 
+void PrintDrive(const std::string& scenario, std::uint64_t seed, const DriveEvaluation& drive) {
+  const nlohmann::json s = drive.metrics.Summary();
+  std::cout << "freespace eval: " << scenario << " seed " << seed << ": " << drive.metrics.size()
+            << " scans, accuracy " << s.at("accuracy").at("mean") << ", intrusion "
+            << s.at("intrusion_m2").at("mean") << " m2, coverage " << s.at("coverage").at("mean")
+            << std::endl;
+}
+
 // --seeds: every (scenario, seed) drive simulated and scored in memory, then the table and
-// OUT/seeds.json.
+// OUT/seeds.json. Ctrl-C (SIGINT) or SIGTERM stops the drives after the one at hand: the table
+// and seeds.json hold the drives done (interrupted_by names the signal), then the command ends
+// by the signal.
 int EvalSeeds(const EvalOptions& options) {
   std::vector<std::uint64_t> seeds;
   std::vector<std::string> scenarios;
@@ -48,25 +59,28 @@ int EvalSeeds(const EvalOptions& options) {
   }
   std::vector<DriveEvaluation> drives;
   const auto started = std::chrono::steady_clock::now();
+  const InterruptGuard interrupt;
+  int signal = 0;  // the signal that stopped the drives before the last
   try {
     for (const std::string& scenario : scenarios) {
       for (const std::uint64_t seed : seeds) {
+        if ((signal = interrupt.caught()) != 0) break;
         SimOptions sim = options.sim;
         sim.scenario = scenario;
         sim.seed = seed;
         drives.push_back(EvaluateDrive(MakeSimulationOptions(sim), config, keep_sensor));
-        if (!options.quiet) {
-          const nlohmann::json s = drives.back().metrics.Summary();
-          std::cout << "freespace eval: " << scenario << " seed " << seed << ": "
-                    << drives.back().metrics.size() << " scans, accuracy "
-                    << s.at("accuracy").at("mean") << ", intrusion "
-                    << s.at("intrusion_m2").at("mean") << " m2, coverage "
-                    << s.at("coverage").at("mean") << std::endl;
-        }
+        if (!options.quiet) PrintDrive(scenario, seed, drives.back());
       }
+      if (signal != 0) break;
     }
+    const std::size_t planned = scenarios.size() * seeds.size();
+    if (signal != 0) {
+      std::cerr << "freespace eval: interrupted by " << SignalName(signal) << " after "
+                << drives.size() << " of " << planned << " drives\n";
+    }
+    if (drives.empty()) return EndBySignal(signal);  // nothing to write
     const nlohmann::json summary = SeedSummary(drives);
-    WriteSeeds(options.out + "/seeds.json", config, summary);
+    WriteSeeds(options.out + "/seeds.json", config, summary, signal);
     if (!options.quiet) {
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -79,7 +93,10 @@ int EvalSeeds(const EvalOptions& options) {
     std::cerr << "freespace eval: " << e.what() << "\n";
     return kExitSetup;
   }
-  return kExitOk;
+  // A signal during the last drive leaves every drive scored (interrupted_by null) but still ends
+  // the command.
+  if (signal == 0) signal = interrupt.caught();
+  return signal != 0 ? EndBySignal(signal) : kExitOk;
 }
 
 int Eval(const EvalOptions& options) {

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "interrupt.hpp"
 #include "quality_report.hpp"
 #include "sim/scenarios.hpp"
 
@@ -129,10 +130,14 @@ void PrintSeedTable(std::ostream& out, const nlohmann::json& summary) {
   }
 }
 
-void WriteSeeds(const std::string& path, const Config& config, const nlohmann::json& summary) {
-  WriteJson(
-      path,
-      {{"definitions", "docs/metrics.md"}, {"config", config.ToYaml()}, {"scenarios", summary}});
+void WriteSeeds(const std::string& path, const Config& config, const nlohmann::json& summary,
+                int interrupted_by) {
+  WriteJson(path,
+            {{"definitions", "docs/metrics.md"},
+             {"config", config.ToYaml()},
+             {"scenarios", summary},
+             {"interrupted_by", interrupted_by != 0 ? nlohmann::json(SignalName(interrupted_by))
+                                                    : nlohmann::json()}});
 }
 
 }  // namespace freespace::cli

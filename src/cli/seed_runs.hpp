@@ -33,7 +33,9 @@ std::vector<std::string> ParseScenarios(const std::string& text, const std::stri
 // Prints a seed summary (SeedSummary) as a table, one row a scenario, the aims beside it.
 void PrintSeedTable(std::ostream& out, const nlohmann::json& summary);
 
-// Writes OUT/seeds.json: the config, and the summary; throws InputError when it cannot.
-void WriteSeeds(const std::string& path, const Config& config, const nlohmann::json& summary);
+// Writes OUT/seeds.json: the config, the summary and `interrupted_by`, the signal that stopped
+// the drives before the last (0: none; null in the file); throws InputError when it cannot.
+void WriteSeeds(const std::string& path, const Config& config, const nlohmann::json& summary,
+                int interrupted_by = 0);
 
 }  // namespace freespace::cli
