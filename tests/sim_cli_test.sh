@@ -93,6 +93,71 @@ if child.returncode != -signal.SIGINT or seeds["interrupted_by"] != "SIGINT":
 if not 1 <= len(done) < 4 or done != list(range(1, len(done) + 1)) or \
         "after %d of 4 drives" % len(done) not in said:
     sys.exit("FAIL: eval --seeds: drives %r; said %r" % (done, said))
+
+def start(args, **kw):
+    return subprocess.Popen([bin] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, preexec_fn=lambda: signal.signal(signal.SIGINT,
+                                                                        signal.SIG_DFL), **kw)
+
+def ended_by_sigint(child, what):
+    _, said = child.communicate()
+    if child.returncode != -signal.SIGINT:
+        sys.exit("FAIL: %s: status %d; said %r" % (what, child.returncode, said[-300:]))
+    return said
+
+# eval --log: SIGINT once it says it is scoring; eval.json holds the scans scored.
+child = start(["eval", "--log", out + "/long/sim.fslog", "--truth", out + "/long/truth.json",
+               "--out", out + "/eval-log-stop"])
+if "scoring" not in child.stderr.readline():
+    sys.exit("FAIL: eval --log: no line before scoring")
+child.send_signal(signal.SIGINT)
+said = ended_by_sigint(child, "eval --log")
+report = json.load(open(out + "/eval-log-stop/eval.json"))
+if report["interrupted_by"] != "SIGINT" or not report["scans_read"] < total or \
+        len(report["per_scan"]) != report["summary"]["scans"]:
+    sys.exit("FAIL: eval --log: %r of %d scans" % (report["scans_read"], total))
+
+# demo: SIGINT once polygons.jsonl holds a line. Its log, truth, polygons and eval.json agree on
+# the scans done, demo.avi is a whole AVI (the RIFF size is the file's), and `eval` scores the
+# drive as it was cut.
+demo = out + "/demo-stop"
+child = start(["demo", "--duration", "30", "--snapshot-every", "1", "--out", demo])
+deadline = time.monotonic() + 60
+while child.poll() is None and time.monotonic() < deadline and not (
+        os.path.exists(demo + "/polygons.jsonl") and
+        b"\n" in open(demo + "/polygons.jsonl", "rb").read()):
+    time.sleep(0.005)
+child.send_signal(signal.SIGINT)
+ended_by_sigint(child, "demo")
+report = json.load(open(demo + "/eval.json"))
+logged = sum(1 for line in open(demo + "/sim.fslog") if line.startswith("SCAN"))
+lines = open(demo + "/polygons.jsonl").read().split("\n")
+avi = open(demo + "/demo.avi", "rb").read()
+if report["interrupted_by"] != "SIGINT" or not 1 <= logged < total or \
+        report["summary"]["scans"] != logged or len(lines) - 1 != logged or lines[-1] != "":
+    sys.exit("FAIL: demo: %d scans logged, eval.json %r" % (logged, report["summary"]["scans"]))
+if avi[:4] != b"RIFF" or int.from_bytes(avi[4:8], "little") != len(avi) - 8:
+    sys.exit("FAIL: demo: demo.avi is not a whole AVI file")
+again = subprocess.run([bin, "eval", "--log", demo + "/sim.fslog", "--truth", demo +
+                        "/truth.json", "--out", demo + "/again", "--quiet"])
+if again.returncode != 0 or \
+        json.load(open(demo + "/again/eval.json"))["summary"]["scans"] != logged:
+    sys.exit("FAIL: demo: the cut drive does not score again")
+
+# demo --seeds: SIGINT once the first drive has written its eval.json; seeds.json holds the
+# drives done.
+child = start(["demo", "--seeds", "1-3", "--scenarios", "parking", "--duration", "5", "--out",
+               out + "/demo-seeds-stop"])
+deadline = time.monotonic() + 60
+while child.poll() is None and time.monotonic() < deadline and \
+        not os.path.exists(out + "/demo-seeds-stop/parking-1/eval.json"):
+    time.sleep(0.005)
+child.send_signal(signal.SIGINT)
+ended_by_sigint(child, "demo --seeds")
+seeds = json.load(open(out + "/demo-seeds-stop/seeds.json"))
+done = seeds["scenarios"][0]["seeds"]
+if seeds["interrupted_by"] != "SIGINT" or not 1 <= len(done) < 3:
+    sys.exit("FAIL: demo --seeds: drives %r, interrupted_by %r" % (done, seeds["interrupted_by"]))
 PY
 
 # eval: scores every scan.

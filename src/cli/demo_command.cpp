@@ -16,6 +16,7 @@
 #include "engine_options.hpp"
 #include "eval/scorer.hpp"
 #include "freespace/freespace.hpp"
+#include "interrupt.hpp"
 #include "output/render.hpp"
 #include "output/report.hpp"
 #include "output/text_file.hpp"
@@ -73,7 +74,10 @@ Config RoadConfig() {
 // One `freespace demo`: the simulated drive, the estimator, the scorer and what they write.
 class DemoRun {
  public:
-  explicit DemoRun(const DemoOptions& options) : options_(options) {}
+  // With `interrupt`, a signal it caught stops the drive after the scan at hand; the outputs
+  // then hold the scans done, eval.json naming the signal (interrupted()).
+  explicit DemoRun(const DemoOptions& options, const InterruptGuard* interrupt = nullptr)
+      : options_(options), interrupt_(interrupt) {}
 
   int Run() {
     started_ = last_progress_ = Clock::now();
@@ -100,6 +104,7 @@ class DemoRun {
     return d;
   }
   const Config& config() const { return config_; }
+  int interrupted() const { return signal_; }
 
  private:
   // Opens the drive, its writer, the config, the estimator and polygons.jsonl, and writes
@@ -152,6 +157,7 @@ class DemoRun {
     std::vector<Scan> cycle;
     std::vector<sim::EchoSource> sources;
     for (std::size_t index = 0;; ++index) {
+      if (interrupt_ != nullptr && (signal_ = interrupt_->caught()) != 0) break;
       const Clock::time_point t0 = Clock::now();
       sources.clear();
       if (!simulation_->NextCycle(&cycle, &sources)) break;
@@ -283,6 +289,12 @@ class DemoRun {
     context.backend = estimator_->backend_name();
     context.scans_read = long(truth().scans.size());
     context.rejected = rejected_;
+    context.interrupted_by = signal_;
+    if (signal_ != 0) {
+      std::cerr << "freespace demo: interrupted by " << SignalName(signal_) << " after "
+                << metrics_.size() + std::size_t(rejected_) << " of " << simulation_->scan_count()
+                << " scans\n";
+    }
     const nlohmann::json report = QualityReport(context, metrics_, times_);
     try {
       WriteJson(options_.out + "/eval.json", report);
@@ -334,12 +346,39 @@ class DemoRun {
   std::size_t snapshots_ = 0, frames_ = 0;
   bool video_full_ = false;  // demo.avi reached --video-max-mb
   long rejected_ = 0;
+  const InterruptGuard* interrupt_;
+  int signal_ = 0;  // the signal that stopped the drive, 0: none
   const bool tty_ = isatty(STDERR_FILENO);
   Clock::time_point started_, last_progress_;
 };
 
-// --seeds: one demo per (scenario, seed) in OUT/<scenario>-<seed>/ (no video, the last
-// snapshot), then the table over seeds and OUT/seeds.json.
+// One drive: the demo's outputs, ended by the signal that stopped it (DemoRun).
+int DemoOne(const DemoOptions& options) {
+  const InterruptGuard interrupt;
+  DemoRun run(options, &interrupt);
+  if (const int code = run.Run(); code != kExitOk) return code;
+  const int signal = run.interrupted() != 0 ? run.interrupted() : interrupt.caught();
+  return signal != 0 ? EndBySignal(signal) : kExitOk;
+}
+
+// The options of the drive (scenario, seed) of --seeds: in OUT/<scenario>-<seed>/, without video,
+// the last snapshot only, its map under a prefix of its own (one prefix would keep the last
+// drive's only).
+DemoOptions SeedDrive(const DemoOptions& options, const std::string& scenario, std::uint64_t seed) {
+  DemoOptions one = options;
+  one.sim.scenario = scenario;
+  one.sim.seed = seed;
+  const std::string tag = scenario + "-" + std::to_string(seed);
+  one.out = options.out + "/" + tag;
+  one.no_video = true;
+  one.snapshot_every = 0;
+  if (!options.save_map.empty()) one.save_map = options.save_map + "-" + tag;
+  return one;
+}
+
+// --seeds: one demo per (scenario, seed) (SeedDrive), then the table over seeds and
+// OUT/seeds.json. A signal stops the drive at hand (its folder holds what it did) and the rest:
+// the table and seeds.json hold the drives done before it, then the command ends by the signal.
 int DemoSeeds(const DemoOptions& options) {
   std::vector<std::uint64_t> seeds;
   std::vector<std::string> scenarios;
@@ -351,29 +390,28 @@ int DemoSeeds(const DemoOptions& options) {
     std::cerr << "freespace demo: " << e.what() << "\n";
     return kExitSetup;
   }
+  const InterruptGuard interrupt;
+  const std::size_t planned = scenarios.size() * seeds.size();
+  int signal = 0;
   std::vector<DriveEvaluation> drives;
   Config config;
-  for (const std::string& scenario : scenarios) {
-    for (const std::uint64_t seed : seeds) {
-      DemoOptions one = options;
-      one.sim.scenario = scenario;
-      one.sim.seed = seed;
-      one.out = options.out + "/" + scenario + "-" + std::to_string(seed);
-      one.no_video = true;
-      one.snapshot_every = 0;
-      // Each drive's map under a prefix of its own: one prefix would keep the last drive's only.
-      if (!options.save_map.empty()) {
-        one.save_map = options.save_map + "-" + scenario + "-" + std::to_string(seed);
-      }
-      DemoRun run(one);
-      if (const int code = run.Run(); code != kExitOk) return code;
-      drives.push_back(run.Evaluation());
-      config = run.config();
-    }
+  for (std::size_t k = 0; k < planned; ++k) {
+    const DemoOptions one =
+        SeedDrive(options, scenarios[k / seeds.size()], seeds[k % seeds.size()]);
+    DemoRun run(one, &interrupt);  // holds a reference to `one`
+    if (const int code = run.Run(); code != kExitOk) return code;
+    if ((signal = run.interrupted()) != 0) break;  // a drive cut short is no seed's score
+    drives.push_back(run.Evaluation());
+    config = run.config();
+  }
+  if (signal != 0) {
+    std::cerr << "freespace demo: interrupted by " << SignalName(signal) << " after "
+              << drives.size() << " of " << planned << " drives\n";
+    if (drives.empty()) return EndBySignal(signal);  // no seeds.json
   }
   const nlohmann::json summary = SeedSummary(drives);
   try {
-    WriteSeeds(options.out + "/seeds.json", config, summary);
+    WriteSeeds(options.out + "/seeds.json", config, summary, signal);
   } catch (const std::exception& e) {
     std::cerr << "freespace demo: " << e.what() << "\n";
     return kExitSetup;
@@ -382,7 +420,8 @@ int DemoSeeds(const DemoOptions& options) {
             << " drives (docs/metrics.md, means over seeds, worst seed in brackets):\n";
   PrintSeedTable(std::cout, summary);
   std::cout << "freespace demo: wrote " << options.out << "/seeds.json\n";
-  return kExitOk;
+  if (signal == 0) signal = interrupt.caught();
+  return signal != 0 ? EndBySignal(signal) : kExitOk;
 }
 
 }  // namespace
@@ -428,7 +467,7 @@ Command AddDemoCommand(CLI::App& app) {
     command->get_option("--seeds")->excludes(command->get_option(name));  // no video, no PNGs
   }
   return {command, [options] {
-            return options->seeds.seeds.empty() ? DemoRun(*options).Run() : DemoSeeds(*options);
+            return options->seeds.seeds.empty() ? DemoOne(*options) : DemoSeeds(*options);
           }};
 }
 

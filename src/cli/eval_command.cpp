@@ -99,6 +99,114 @@ int EvalSeeds(const EvalOptions& options) {
   return signal != 0 ? EndBySignal(signal) : kExitOk;
 }
 
+// --log and --truth: the drive's log scored scan by scan against its truth. Ctrl-C (SIGINT) or
+// SIGTERM stops after the scan at hand: eval.json holds the scans scored (interrupted_by names
+// the signal), then the command ends by the signal.
+class LogEval {
+ public:
+  explicit LogEval(const EvalOptions& options) : options_(options) {}
+
+  int Run() {
+    if (!Open()) return kExitSetup;
+    const InterruptGuard interrupt;
+    if (!options_.quiet) {
+      std::cerr << "freespace eval: scoring " << options_.log << " against " << options_.truth
+                << "\n";
+    }
+    const auto started = std::chrono::steady_clock::now();
+    nlohmann::json report;
+    try {
+      Score(interrupt);
+      report = QualityReport(context_, metrics_, times_);
+      WriteJson(options_.out + "/eval.json", report);
+    } catch (const std::exception& e) {
+      std::cerr << "freespace eval: " << e.what() << "\n";
+      return kExitSetup;
+    }
+    if (context_.interrupted_by != 0) {
+      std::cerr << "freespace eval: interrupted by " << SignalName(context_.interrupted_by)
+                << " after " << context_.scans_read << " scans of " << options_.log << "\n";
+    }
+    if (!options_.quiet) {
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      std::cout << "freespace eval: " << truth_.scenario << ", " << metrics_.size()
+                << " scans scored (" << context_.rejected << " rejected), backend "
+                << context_.backend << ", " << seconds << " s\n";
+      PrintQuality(std::cout, report.at("summary"));
+      std::cout << "freespace eval: wrote " << options_.out << "/eval.json\n";
+    }
+    const int signal = context_.interrupted_by != 0 ? context_.interrupted_by : interrupt.caught();
+    return signal != 0 ? EndBySignal(signal) : kExitOk;
+  }
+
+ private:
+  // The log, the config, the truth and the estimator; false (printed) when one fails.
+  bool Open() {
+    try {
+      reader_ = OpenLog(options_.log);
+      LogSensors sensors{reader_->sensors(), reader_->rig()};
+      config_ = LoadEngineConfig(options_.engine, sensors);
+      truth_ = sim::ReadTruth(options_.truth);
+      if (config_.sensor_count() != int(truth_.rig.scanners.size())) {
+        throw ConfigError("config: the drive's rig '" + truth_.rig.name + "' has " +
+                          std::to_string(truth_.rig.scanners.size()) + " scanners, the config " +
+                          std::to_string(config_.sensor_count()) + " sensors");
+      }
+      MakeDirectories(options_.out);
+      estimator_ = std::make_unique<Estimator>(config_);
+    } catch (const std::exception& e) {
+      std::cerr << "freespace eval: " << e.what() << "\n";
+      return false;
+    }
+    context_.scenario = truth_.scenario;
+    context_.log = options_.log;
+    context_.truth = options_.truth;
+    context_.backend = estimator_->backend_name();
+    return true;
+  }
+
+  // Every cycle of the log until its end or a signal, scored.
+  void Score(const InterruptGuard& interrupt) {
+    sim::TruthScorer scorer(truth_);
+    CycleReader cycles(*reader_, config_.sensor_count());
+    std::vector<Scan> cycle;
+    for (;;) {
+      if ((context_.interrupted_by = interrupt.caught()) != 0) break;
+      const bool more = cycles.Next(&cycle);
+      ReportIssues();  // after every read, the last (which found none) too
+      if (!more) break;
+      context_.scans_read += long(cycle.size());
+      const Result& r = estimator_->ProcessCycle(cycle);
+      if (r.status == ScanStatus::kRejected) {
+        ++context_.rejected;
+        std::cerr << "freespace eval: warning: scan " << r.scan_index << " rejected: " << r.message
+                  << "\n";
+        continue;
+      }
+      times_.Add(r.times);
+      metrics_.Add(scorer.Score(scorer.Find(r.timestamp_s), estimator_->map(), r));
+    }
+  }
+
+  void ReportIssues() {
+    for (const LogIssue& issue : reader_->TakeIssues()) {
+      std::cerr << "freespace eval: " << (issue.note ? "note: " : "warning: ") << issue.ToString()
+                << "\n";
+      if (!issue.note) ++context_.malformed_lines;
+    }
+  }
+
+  const EvalOptions& options_;
+  std::unique_ptr<LogReader> reader_;
+  std::unique_ptr<Estimator> estimator_;
+  sim::Truth truth_;
+  Config config_;
+  ReportContext context_;
+  MetricsSeries metrics_;
+  StageSeries times_;
+};
+
 int Eval(const EvalOptions& options) {
   if (!options.seeds.seeds.empty()) {
     if (!options.log.empty() || !options.truth.empty()) {
@@ -111,81 +219,7 @@ int Eval(const EvalOptions& options) {
     std::cerr << "freespace eval: give --log and --truth of a drive, or --seeds\n";
     return kExitSetup;
   }
-  std::unique_ptr<LogReader> reader;
-  std::unique_ptr<Estimator> estimator;
-  sim::Truth truth;
-  Config config;
-  try {
-    reader = OpenLog(options.log);
-    LogSensors sensors{reader->sensors(), reader->rig()};
-    config = LoadEngineConfig(options.engine, sensors);
-    truth = sim::ReadTruth(options.truth);
-    if (config.sensor_count() != int(truth.rig.scanners.size())) {
-      throw ConfigError("config: the drive's rig '" + truth.rig.name + "' has " +
-                        std::to_string(truth.rig.scanners.size()) + " scanners, the config " +
-                        std::to_string(config.sensor_count()) + " sensors");
-    }
-    MakeDirectories(options.out);
-    estimator = std::make_unique<Estimator>(config);
-  } catch (const std::exception& e) {
-    std::cerr << "freespace eval: " << e.what() << "\n";
-    return kExitSetup;
-  }
-  const auto started = std::chrono::steady_clock::now();
-  sim::TruthScorer scorer(truth);
-  MetricsSeries metrics;
-  StageSeries times;
-  ReportContext context;
-  context.scenario = truth.scenario;
-  context.log = options.log;
-  context.truth = options.truth;
-  context.backend = estimator->backend_name();
-  try {
-    CycleReader cycles(*reader, config.sensor_count());
-    std::vector<Scan> cycle;
-    const auto report_issues = [&] {  // after every read, the last (which found none) too
-      for (const LogIssue& issue : reader->TakeIssues()) {
-        std::cerr << "freespace eval: " << (issue.note ? "note: " : "warning: ") << issue.ToString()
-                  << "\n";
-        if (!issue.note) ++context.malformed_lines;
-      }
-    };
-    for (;;) {
-      const bool more = cycles.Next(&cycle);
-      report_issues();
-      if (!more) break;
-      context.scans_read += long(cycle.size());
-      const Result& r = estimator->ProcessCycle(cycle);
-      if (r.status == ScanStatus::kRejected) {
-        ++context.rejected;
-        std::cerr << "freespace eval: warning: scan " << r.scan_index << " rejected: " << r.message
-                  << "\n";
-        continue;
-      }
-      times.Add(r.times);
-      metrics.Add(scorer.Score(scorer.Find(r.timestamp_s), estimator->map(), r));
-    }
-  } catch (const std::exception& e) {
-    std::cerr << "freespace eval: " << e.what() << "\n";
-    return kExitSetup;
-  }
-  const nlohmann::json report = QualityReport(context, metrics, times);
-  try {
-    WriteJson(options.out + "/eval.json", report);
-  } catch (const std::exception& e) {
-    std::cerr << "freespace eval: " << e.what() << "\n";
-    return kExitSetup;
-  }
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  if (!options.quiet) {
-    std::cout << "freespace eval: " << truth.scenario << ", " << metrics.size() << " scans scored ("
-              << context.rejected << " rejected), backend " << context.backend << ", " << seconds
-              << " s\n";
-    PrintQuality(std::cout, report.at("summary"));
-    std::cout << "freespace eval: wrote " << options.out << "/eval.json\n";
-  }
-  return kExitOk;
+  return LogEval(options).Run();
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 
 #include <cstdio>
 
+#include "interrupt.hpp"
 #include "output/text_file.hpp"
 
 namespace freespace::cli {
@@ -26,6 +27,8 @@ nlohmann::json QualityReport(const ReportContext& c, const MetricsSeries& metric
           {"scans_read", c.scans_read},
           {"rejected", c.rejected},
           {"malformed_lines", c.malformed_lines},
+          {"interrupted_by",
+           c.interrupted_by != 0 ? nlohmann::json(SignalName(c.interrupted_by)) : nlohmann::json()},
           {"definitions", "docs/metrics.md"},
           {"summary", metrics.Summary()},
           {"stage_us", times.Summary()},

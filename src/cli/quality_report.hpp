@@ -20,6 +20,7 @@ struct ReportContext {
   long scans_read = 0;
   long rejected = 0;
   long malformed_lines = 0;  // the log's lines the reader reported and skipped
+  int interrupted_by = 0;    // the signal that stopped the scans before the log's end; 0: none
 };
 
 nlohmann::json QualityReport(const ReportContext& context, const MetricsSeries& metrics,
