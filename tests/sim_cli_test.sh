@@ -31,7 +31,7 @@ grep -q '"format": "freespace-truth"' "$out/sim/truth.json" || fail "truth forma
 "$bin" simulate --scenario parking --duration 30 --seed 5 --out "$out/long" 2>"$out/long.err" \
   || fail "simulate 30 s failed: $(cat "$out/long.err")"
 python3 - "$bin" "$out" <<'PY' || fail "an interrupted run"
-import json, os, signal, subprocess, sys, time
+import json, os, re, signal, subprocess, sys, time
 
 bin, out = sys.argv[1:3]
 
@@ -128,7 +128,11 @@ while child.poll() is None and time.monotonic() < deadline and not (
         b"\n" in open(demo + "/polygons.jsonl", "rb").read()):
     time.sleep(0.005)
 child.send_signal(signal.SIGINT)
-ended_by_sigint(child, "demo")
+said = ended_by_sigint(child, "demo")
+planned = re.search(r"interrupted by SIGINT after \d+ of (\d+) scans", said)
+if planned is None:
+    sys.exit("FAIL: demo: does not say how far it got: %r" % said[-300:])
+total = int(planned.group(1))
 report = json.load(open(demo + "/eval.json"))
 logged = sum(1 for line in open(demo + "/sim.fslog") if line.startswith("SCAN"))
 lines = open(demo + "/polygons.jsonl").read().split("\n")

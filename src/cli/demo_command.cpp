@@ -396,6 +396,8 @@ int DemoSeeds(const DemoOptions& options) {
   std::vector<DriveEvaluation> drives;
   Config config;
   for (std::size_t k = 0; k < planned; ++k) {
+    // A signal between two drives: the next one's folder is not touched.
+    if ((signal = interrupt.caught()) != 0) break;
     const DemoOptions one =
         SeedDrive(options, scenarios[k / seeds.size()], seeds[k % seeds.size()]);
     DemoRun run(one, &interrupt);  // holds a reference to `one`
@@ -407,7 +409,6 @@ int DemoSeeds(const DemoOptions& options) {
   if (signal != 0) {
     std::cerr << "freespace demo: interrupted by " << SignalName(signal) << " after "
               << drives.size() << " of " << planned << " drives\n";
-    if (drives.empty()) return EndBySignal(signal);  // no seeds.json
   }
   const nlohmann::json summary = SeedSummary(drives);
   try {

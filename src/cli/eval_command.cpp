@@ -78,7 +78,6 @@ int EvalSeeds(const EvalOptions& options) {
       std::cerr << "freespace eval: interrupted by " << SignalName(signal) << " after "
                 << drives.size() << " of " << planned << " drives\n";
     }
-    if (drives.empty() && signal != 0) return EndBySignal(signal);  // nothing to write
     const nlohmann::json summary = SeedSummary(drives);
     WriteSeeds(options.out + "/seeds.json", config, summary, signal);
     if (!options.quiet) {
