@@ -402,9 +402,9 @@ int DemoSeeds(const DemoOptions& options) {
         SeedDrive(options, scenarios[k / seeds.size()], seeds[k % seeds.size()]);
     DemoRun run(one, &interrupt);  // holds a reference to `one`
     if (const int code = run.Run(); code != kExitOk) return code;
+    config = run.config();  // a cut drive's too: seeds.json names the config even without drives
     if ((signal = run.interrupted()) != 0) break;  // a drive cut short is no seed's score
     drives.push_back(run.Evaluation());
-    config = run.config();
   }
   if (signal != 0) {
     std::cerr << "freespace demo: interrupted by " << SignalName(signal) << " after "
