@@ -148,6 +148,27 @@ if again.returncode != 0 or \
         json.load(open(demo + "/again/eval.json"))["summary"]["scans"] != logged:
     sys.exit("FAIL: demo: the cut drive does not score again")
 
+# simulate: SIGINT once sim.fslog holds data; the log and the truth hold the same scans, whole,
+# and `eval` scores them.
+sim = out + "/simulate-stop"
+child = start(["simulate", "--scenario", "urban", "--duration", "120", "--out", sim])
+deadline = time.monotonic() + 60
+while child.poll() is None and time.monotonic() < deadline and not (
+        os.path.exists(sim + "/sim.fslog") and os.path.getsize(sim + "/sim.fslog") > 0):
+    time.sleep(0.002)
+child.send_signal(signal.SIGINT)
+said = ended_by_sigint(child, "simulate")
+logged = sum(1 for line in open(sim + "/sim.fslog") if line.startswith("SCAN"))
+truth_scans = len(json.load(open(sim + "/truth.json"))["scans"])
+if not 1 <= logged < 3001 or truth_scans != logged or \
+        "after %d of 3001 cycles" % logged not in said:
+    sys.exit("FAIL: simulate: %d scans logged, %d in the truth; said %r" % (logged, truth_scans,
+                                                                          said[-300:]))
+again = subprocess.run([bin, "eval", "--log", sim + "/sim.fslog", "--truth", sim + "/truth.json",
+                        "--out", sim + "/eval", "--quiet"])
+if again.returncode != 0 or json.load(open(sim + "/eval/eval.json"))["summary"]["scans"] != logged:
+    sys.exit("FAIL: simulate: the cut drive does not score")
+
 # demo --seeds: SIGINT once the first drive has written its eval.json; seeds.json holds the
 # drives done.
 child = start(["demo", "--seeds", "1-3", "--scenarios", "parking", "--duration", "5", "--out",

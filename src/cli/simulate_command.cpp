@@ -6,6 +6,7 @@
 #include "commands.hpp"
 #include "engine_options.hpp"
 #include "freespace/errors.hpp"
+#include "interrupt.hpp"
 #include "sim_options.hpp"
 
 namespace freespace::cli {
@@ -16,8 +17,11 @@ struct SimulateOptions {
   std::string out = "out/sim";
 };
 
+// Ctrl-C (SIGINT) or SIGTERM stops the drive after the cycle at hand: the logs and the truth
+// are closed whole with the cycles done, then the command ends by the signal.
 int Simulate(const SimulateOptions& options) {
   const auto started = std::chrono::steady_clock::now();
+  int signal = 0;
   try {
     sim::SimulationOptions sim_options = MakeSimulationOptions(options.sim);
     sim_options.keep_truth_scans = false;  // written scan by scan: memory bounded
@@ -28,10 +32,17 @@ int Simulate(const SimulateOptions& options) {
               << options.sim.seed << "): " << simulation.scenario().description << "; "
               << simulation.scan_count() << " scans\n";
     EchoCounts counts;
-    sim::WriteDrive(&simulation, &writer, [&counts](const std::vector<sim::EchoSource>& sources) {
-      counts.Add(sources);
-    });
+    const InterruptGuard interrupt;
+    const std::size_t written = sim::WriteDrive(
+        &simulation, &writer,
+        [&counts](const std::vector<sim::EchoSource>& sources) { counts.Add(sources); },
+        [&] { return (signal = interrupt.caught()) != 0; });
     writer.Close();
+    if (signal != 0) {
+      std::cerr << "freespace simulate: interrupted by " << SignalName(signal) << " after "
+                << written << " of " << simulation.scan_count()
+                << " cycles; the logs and the truth hold those\n";
+    }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     std::cerr << "freespace simulate: " << counts.ToString() << "\n"
@@ -45,7 +56,7 @@ int Simulate(const SimulateOptions& options) {
     std::cerr << "freespace simulate: " << e.what() << "\n";
     return kExitSetup;
   }
-  return kExitOk;
+  return signal != 0 ? EndBySignal(signal) : kExitOk;
 }
 
 }  // namespace

@@ -117,11 +117,12 @@ void SimulationWriter::Close() {
 }
 
 std::size_t WriteDrive(Simulation* simulation, SimulationWriter* writer,
-                       const std::function<void(const std::vector<EchoSource>&)>& each) {
+                       const std::function<void(const std::vector<EchoSource>&)>& each,
+                       const std::function<bool()>& stop) {
   std::vector<Scan> cycle;
   std::vector<EchoSource> sources;
   std::size_t written = 0;
-  while (simulation->NextCycle(&cycle, each ? &sources : nullptr)) {
+  while (!(stop && stop()) && simulation->NextCycle(&cycle, each ? &sources : nullptr)) {
     writer->Write(cycle, simulation->last());
     if (each) each(sources);
     sources.clear();

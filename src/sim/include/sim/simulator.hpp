@@ -95,10 +95,11 @@ class SimulationWriter {
 };
 
 // Simulates the rest of `simulation` into `writer` cycle by cycle (Close() left to the
-// caller), calling `each` (when set) with every cycle's echo sources. Returns the cycles
-// written. With
+// caller), calling `each` (when set) with every cycle's echo sources, until the drive ends or
+// `stop` (when set), asked before each cycle, says to. Returns the cycles written. With
 // keep_truth_scans false, memory stays the same however long the drive.
 std::size_t WriteDrive(Simulation* simulation, SimulationWriter* writer,
-                       const std::function<void(const std::vector<EchoSource>&)>& each = nullptr);
+                       const std::function<void(const std::vector<EchoSource>&)>& each = nullptr,
+                       const std::function<bool()>& stop = nullptr);
 
 }  // namespace freespace::sim
