@@ -112,8 +112,9 @@ class DemoRun {
   bool Open() {
     try {
       std::vector<NamedPath> outputs;
+      using Writer = sim::SimulationWriter;
       for (const char* name : {"config.yaml", "polygons.jsonl", "eval.json", "demo.avi",
-                               "sim.fslog", "sim.clf", "truth.json"})
+                               Writer::kLogName, Writer::kCarmenName, Writer::kTruthName})
         outputs.push_back({"--out", options_.out + "/" + name});
       AddMapOutputs(options_.save_map, &outputs);
       RefuseOverwritingInputs({{"--config", options_.engine.config_path}}, outputs);
@@ -357,8 +358,7 @@ int DemoOne(const DemoOptions& options) {
   const InterruptGuard interrupt;
   DemoRun run(options, &interrupt);
   if (const int code = run.Run(); code != kExitOk) return code;
-  const int signal = run.interrupted() != 0 ? run.interrupted() : interrupt.caught();
-  return signal != 0 ? EndBySignal(signal) : kExitOk;
+  return interrupt.Finish(run.interrupted());
 }
 
 // The options of the drive (scenario, seed) of --seeds: in OUT/<scenario>-<seed>/, without video,
@@ -421,8 +421,7 @@ int DemoSeeds(const DemoOptions& options) {
             << " drives (docs/metrics.md, means over seeds, worst seed in brackets):\n";
   PrintSeedTable(std::cout, summary);
   std::cout << "freespace demo: wrote " << options.out << "/seeds.json\n";
-  if (signal == 0) signal = interrupt.caught();
-  return signal != 0 ? EndBySignal(signal) : kExitOk;
+  return interrupt.Finish(signal);
 }
 
 }  // namespace

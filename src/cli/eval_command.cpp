@@ -94,8 +94,7 @@ int EvalSeeds(const EvalOptions& options) {
   }
   // A signal during the last drive leaves every drive scored (interrupted_by null) but still ends
   // the command.
-  if (signal == 0) signal = interrupt.caught();
-  return signal != 0 ? EndBySignal(signal) : kExitOk;
+  return interrupt.Finish(signal);
 }
 
 // --log and --truth: the drive's log scored scan by scan against its truth. Ctrl-C (SIGINT) or
@@ -135,8 +134,7 @@ class LogEval {
       PrintQuality(std::cout, report.at("summary"));
       std::cout << "freespace eval: wrote " << options_.out << "/eval.json\n";
     }
-    const int signal = context_.interrupted_by != 0 ? context_.interrupted_by : interrupt.caught();
-    return signal != 0 ? EndBySignal(signal) : kExitOk;
+    return interrupt.Finish(context_.interrupted_by);
   }
 
  private:

@@ -56,7 +56,9 @@ InterruptGuard::~InterruptGuard() {
 
 int InterruptGuard::caught() const { return g_caught.load(); }
 
-int EndBySignal(int signal) {
+int InterruptGuard::Finish(int stopped_by) const {
+  const int signal = stopped_by != 0 ? stopped_by : caught();
+  if (signal == 0) return 0;
   std::cout.flush();
   std::cerr.flush();
   std::fflush(nullptr);

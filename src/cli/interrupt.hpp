@@ -18,13 +18,14 @@ class InterruptGuard {
 
   // The signal caught (SIGINT or SIGTERM), 0 while none has come.
   int caught() const;
-};
 
-// Ends the process by `signal` with its default action (after flushing the standard streams),
-// as if it had not been caught: a calling shell sees the signal (exit status 128 + signal) and
-// stops a script as it would for any other command. Returns 128 + signal should the process
-// survive it.
-int EndBySignal(int signal);
+  // The end of a command whose outputs are written, stopped by `stopped_by` (0: it went to its
+  // end): ends the process by that signal, or by one caught since, with its default action
+  // (after flushing the standard streams), as if it had not been caught, so that a calling
+  // shell sees the signal (exit status 128 + signal) and stops a script as for any other
+  // command. Returns 0 when no signal came (128 + signal should the process survive it).
+  int Finish(int stopped_by = 0) const;
+};
 
 // "SIGINT", "SIGTERM", or "a signal".
 const char* SignalName(int signal);

@@ -105,7 +105,7 @@ class LogRun {
   explicit LogRun(const RunOptions& options) : options_(options) {}
 
   // Ctrl-C or SIGTERM ends the run after the scan at hand, with every output closed and
-  // summary.json saying so (interrupted_by), then by the signal (EndBySignal).
+  // summary.json saying so (interrupted_by), then by the signal (InterruptGuard::Finish).
   int Run() {
     if (!Open()) return kExitSetup;
     const InterruptGuard interrupt;
@@ -128,8 +128,7 @@ class LogRun {
     PrintClosing();
     // A signal after the last scan leaves the outputs as they are (whole, interrupted_by null)
     // but still ends the command.
-    const int signal = signal_ != 0 ? signal_ : interrupt.caught();
-    return signal != 0 ? EndBySignal(signal) : kExitOk;
+    return interrupt.Finish(signal_);
   }
 
  private:

@@ -21,6 +21,7 @@ struct SimulateOptions {
 // are closed whole with the cycles done, then the command ends by the signal.
 int Simulate(const SimulateOptions& options) {
   const auto started = std::chrono::steady_clock::now();
+  const InterruptGuard interrupt;
   int signal = 0;
   try {
     sim::SimulationOptions sim_options = MakeSimulationOptions(options.sim);
@@ -32,7 +33,6 @@ int Simulate(const SimulateOptions& options) {
               << options.sim.seed << "): " << simulation.scenario().description << "; "
               << simulation.scan_count() << " scans\n";
     EchoCounts counts;
-    const InterruptGuard interrupt;
     const std::size_t written = sim::WriteDrive(
         &simulation, &writer,
         [&counts](const std::vector<sim::EchoSource>& sources) { counts.Add(sources); },
@@ -56,7 +56,7 @@ int Simulate(const SimulateOptions& options) {
     std::cerr << "freespace simulate: " << e.what() << "\n";
     return kExitSetup;
   }
-  return signal != 0 ? EndBySignal(signal) : kExitOk;
+  return interrupt.Finish(signal);
 }
 
 }  // namespace

@@ -89,10 +89,11 @@ double Simulation::Step(Scan* scan, std::vector<EchoSource>* sources, const Pose
 
 SimulationWriter::SimulationWriter(const std::string& dir, const Truth& header)
     : dir_(dir),
-      native_(dir + "/sim.fslog", EngineSensors(header.rig), header.rig.vehicle),
-      truth_(dir + "/truth.json", header) {
+      native_(dir + "/" + kLogName, EngineSensors(header.rig), header.rig.vehicle),
+      truth_(dir + "/" + kTruthName, header) {
   if (!header.rig.several()) {
-    carmen_ = std::make_unique<RobotLaserWriter>(dir + "/sim.clf", header.scanner.EngineSensor());
+    carmen_ =
+        std::make_unique<RobotLaserWriter>(dir + "/" + kCarmenName, header.scanner.EngineSensor());
   }
 }
 

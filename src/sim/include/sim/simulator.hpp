@@ -83,9 +83,13 @@ class SimulationWriter {
   void Close();  // ends the files
   bool writes_carmen() const { return carmen_ != nullptr; }
 
-  std::string log_path() const { return dir_ + "/sim.fslog"; }
-  std::string carmen_path() const { return dir_ + "/sim.clf"; }
-  std::string truth_path() const { return dir_ + "/truth.json"; }
+  // The files' names in the folder.
+  static constexpr const char* kLogName = "sim.fslog";
+  static constexpr const char* kCarmenName = "sim.clf";
+  static constexpr const char* kTruthName = "truth.json";
+  std::string log_path() const { return dir_ + "/" + kLogName; }
+  std::string carmen_path() const { return dir_ + "/" + kCarmenName; }
+  std::string truth_path() const { return dir_ + "/" + kTruthName; }
 
  private:
   std::string dir_;
