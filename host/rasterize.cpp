@@ -71,26 +71,26 @@ void RasterizeRow(const std::int32_t* v, int n, int width, int row, std::uint8_t
 
 }  // namespace host
 
-// The cells of rows [r0, r1) the outline of job's ring touches, but for its two edges at the
-// sensor (vertex 0), are no longer free (RasterJob::clear_outline). An edge inside one row
-// costs no division (OutlineColumns takes a vertex's own x).
-void HostBackend::ClearOutline(const RasterJob& job, int r0, int r1) {
-  const int width = params_.width;
-  const std::int32_t* v = job.vertices;
-  for (int i = 1; i + 1 < job.vertex_count; ++i) {
+namespace host {
+
+void ClearOutline(const std::int32_t* v, int vertex_count, int width, int r0, int r1,
+                  std::uint8_t* update) {
+  for (int i = 1; i + 1 < vertex_count; ++i) {
     const std::int64_t x0 = v[2 * i], y0 = v[2 * i + 1], x1 = v[2 * i + 2], y1 = v[2 * i + 3];
     // Rows ra .. rb (inclusive) with 256 r <= max y and 256 (r + 1) >= min y.
-    const std::int64_t ra = host::FloorDiv(std::min(y0, y1) + kFixedOne - 1, kFixedOne) - 1;
-    const std::int64_t rb = host::FloorDiv(std::max(y0, y1), kFixedOne);
+    const std::int64_t ra = FloorDiv(std::min(y0, y1) + kFixedOne - 1, kFixedOne) - 1;
+    const std::int64_t rb = FloorDiv(std::max(y0, y1), kFixedOne);
     for (std::int64_t r = std::max<std::int64_t>(ra, r0); r <= std::min<std::int64_t>(rb, r1 - 1);
          ++r) {
       int lo = 0, hi = -1;
       if (!OutlineColumns(x0, y0, x1, y1, int(r), width, &lo, &hi)) continue;
-      std::uint8_t* row = update_.data() + std::size_t(r) * width;
+      std::uint8_t* row = update + std::size_t(r) * width;
       std::fill(row + lo, row + hi + 1, kUpdateNone);
     }
   }
 }
+
+}  // namespace host
 
 void HostBackend::Rasterize(const RasterJob& job) {
   const int width = params_.width;
@@ -131,7 +131,7 @@ void HostBackend::Rasterize(const RasterJob& job) {
                       });
   });
 
-  if (job.clear_outline) ClearOutline(job, r0, r1);
+  if (job.clear_outline) host::ClearOutline(job.vertices, job.vertex_count, width, r0, r1, update);
   // Occupied wins over free: written after the fill.
   for (int i = 0; i < job.occupied_count; ++i) update[job.occupied[i]] = kUpdateOccupied;
 }

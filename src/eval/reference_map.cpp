@@ -95,7 +95,8 @@ void ReferenceMap::Update(const Scan& scan, const Result& r) {
     ymax = std::max<std::int64_t>(ymax, vertices_[2 * i + 1]);
   }
   // This scan's update of the window, one value per cell as stage 1 defines it: free inside
-  // the polygon, occupied on the kept echoes (occupied wins).
+  // the polygon (less its outline where the config says so), occupied on the kept echoes
+  // (occupied wins).
   const int gr0 = int(y0 - base_y_), gc0 = int(x0 - base_x_);
   row_.resize(width_);
   update_.assign(std::size_t(w) * h, kUpdateNone);
@@ -105,6 +106,8 @@ void ReferenceMap::Update(const Scan& scan, const Result& r) {
     host::RasterizeRow(vertices_.data(), job.vertex_count, width_, gr0 + y, row_.data());
     std::copy(row_.begin() + gc0, row_.begin() + gc0 + w, update_.begin() + std::size_t(y) * w);
   }
+  // The cells the outline touches, when sensor_model.free_on_outline is false (window cells).
+  if (job.clear_outline) host::ClearOutline(job.vertices, job.vertex_count, w, 0, h, update_.data());
   for (int i = 0; i < job.occupied_count; ++i) update_[job.occupied[i]] = kUpdateOccupied;
   // Fusion, as stage 2.
   for (int y = 0; y < h; ++y) {

@@ -58,7 +58,6 @@ class HostBackend final : public Backend {
  private:
   std::size_t cells() const { return std::size_t(params_.width) * params_.height; }
   int words() const { return (params_.width + 63) / 64; }   // bitset words per row
-  void ClearOutline(const RasterJob& job, int r0, int r1);  // host/rasterize.cpp
 
   ThreadArena arena_;
   std::vector<LogOdds> map_;
@@ -104,6 +103,13 @@ void SetCellBits(const std::int32_t* cells, int count, int width, int words,
 // line and turns the parity into kUpdateFree / kUpdateNone; `out` has `width` cells.
 void RasterizeRow(const std::int32_t* vertices, int vertex_count, int width, int row,
                   std::uint8_t* out);
+
+// The cells of rows [r0, r1) of `update` (`width` a row) that the outline of the full-scan
+// polygon `vertices` touches, but for its two edges at the sensor (vertex 0), set to kUpdateNone
+// (RasterJob::clear_outline). An edge inside one row costs no division (OutlineColumns takes a
+// vertex's own x).
+void ClearOutline(const std::int32_t* vertices, int vertex_count, int width, int r0, int r1,
+                  std::uint8_t* update);
 
 // Conventional model: adds the deltas of the ray from (x0, y0) to (x1, y1) into `delta`
 // (width x height): l_free on every in-map cell before the end, l_occupied on the end cell.
