@@ -56,8 +56,10 @@ std::string ChooseTopic(const std::map<std::string, std::string>& types,
   if (candidates.size() == 1) return candidates[0];
   if (candidates.empty()) return "";
   for (const std::string& c : candidates) of_type += (of_type.empty() ? "" : ", ") + c;
+  const std::string rig =
+      option == "--scan-topic" ? " (or several, comma-separated, for a rig of scanners)" : "";
   throw InputError(path + ": several " + wanted + " topics (" + of_type + "): choose one with " +
-                   option);
+                   option + rig);
 }
 
 // The comma-separated topics of `text` (empty: none).
@@ -367,7 +369,7 @@ void BagReader::TakeCloudSensor(const sensor_msgs::PointCloud2& first) {
   const std::string why = ReadLayout(first, &layout);
   if (!why.empty()) throw InputError(path_ + ": the first point cloud: " + why);
   if (layout.ring_not_integer) {
-    Report(0, "the point clouds' ring field is not an integer: layers by elevation");
+    Note(0, "the point clouds' ring field is not an integer: layers by elevation");
   }
   const bool has_ring = layout.ring.offset >= 0;
   if (options_.cloud_layers == CloudLayers::kRing && !has_ring) {
@@ -401,7 +403,7 @@ void BagReader::TakeMount(const std::string& base_frame, const std::string& lase
     sensor->mount_y_m = mount.y;
     sensor->mount_yaw_deg = mount.yaw * 180.0 / M_PI;
   } else {
-    Report(0, "no /tf_static transform from " + base_frame + " to the scan frame " + laser +
+    Note(0, "no /tf_static transform from " + base_frame + " to the scan frame " + laser +
                   ": the sensor mount is the config's (zero without a sensor section)");
   }
 }

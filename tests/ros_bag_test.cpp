@@ -220,6 +220,8 @@ TEST(RosBag, TopicsAreChosenOrAskedFor) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("--scan-topic"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("/front, /rear"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("comma-separated, for a rig"), std::string::npos)
+        << e.what();
   }
   ros_bag::BagOptions options;
   options.scan_topic = "/rear";
@@ -231,6 +233,7 @@ TEST(RosBag, TopicsAreChosenOrAskedFor) {
   const auto issues = reader->TakeIssues();
   ASSERT_EQ(issues.size(), 1u);
   EXPECT_NE(issues[0].message.find("no /tf_static transform"), std::string::npos);
+  EXPECT_TRUE(issues[0].note);  // nothing was left out: no malformed line, no skip
   options.scan_topic = "/odom";
   EXPECT_THROW(ros_bag::OpenRosBag(path, options), InputError);
   options.scan_topic = "/nothing";
