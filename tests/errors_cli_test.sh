@@ -167,6 +167,11 @@ expect 2 scenario-twice "$bin" eval --seeds 1 --scenarios urban,urban --duration
 expect 2 scenarios-alone "$bin" demo --scenarios highway --duration 0.1 --out "$out/x"
 names scenarios-alone "--scenarios requires --seeds"
 expect 2 seeds-and-seed "$bin" eval --seeds 1 --seed 9 --duration 0.1 --out "$out/x"
+names seeds-and-seed "one drive: --seeds 9"
+expect 2 eval-seed "$bin" eval --seed 3 --out "$out/x"
+names eval-seed "one drive: --seeds 3"
+expect 2 eval-scenario "$bin" eval --scenario parking --out "$out/x"
+names eval-scenario "--scenario requires --seeds"
 expect 2 log-and-sim "$bin" eval --log "$log" --truth "$out/sim/truth.json" --duration 0.2 \
   --out "$out/x"
 names log-and-sim "--log excludes --duration"

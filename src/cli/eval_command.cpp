@@ -23,6 +23,7 @@ struct EvalOptions {
   EngineOptions engine;
   SimOptions sim;
   SeedOptions seeds;
+  std::string single_seed;  // a --seed given: refused with the way to score one drive
 };
 
 void PrintDrive(const std::string& scenario, std::uint64_t seed, const DriveEvaluation& drive) {
@@ -205,6 +206,12 @@ class LogEval {
 };
 
 int Eval(const EvalOptions& options) {
+  if (!options.single_seed.empty()) {
+    std::cerr << "freespace eval: --seed " << options.single_seed
+              << ": eval scores the drives of --seeds (one drive: --seeds "
+              << options.single_seed << ")\n";
+    return kExitSetup;
+  }
   if (!options.seeds.seeds.empty()) {
     if (!options.log.empty() || !options.truth.empty()) {
       std::cerr << "freespace eval: --seeds simulates its drives: give it no --log or --truth\n";
@@ -240,7 +247,12 @@ Command AddEvalCommand(CLI::App& app) {
   AddSeedOptions(command, &options->seeds);
   AddSimOptions(command, &options->sim);
   LinkSeedOptions(command);
+  // Each drive's seed is one of --seeds (eval simulates no single drive), and the drives'
+  // options are read with --seeds only.
+  command->remove_option(command->get_option("--seed"));
+  SimOptionsNeed(command, command->get_option("--seeds"));
   ExcludeSimOptions(command, log);  // the log is the drive
+  command->add_option("--seed", options->single_seed)->group("");  // hidden: says what to use
   command->add_option("--out", options->out, "Output directory")->capture_default_str();
   command->add_flag("--quiet", options->quiet, "Print nothing but errors");
   AddEngineOptions(command, &options->engine);

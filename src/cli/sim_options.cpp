@@ -42,12 +42,29 @@ void AddSimOptions(CLI::App* command, SimOptions* o) {
       ->check(CLI::Range(0.0, 1.0));
 }
 
+namespace {
+constexpr const char* kSimOptionNames[] = {"--scenario",
+                                           "--seed",
+                                           "--duration",
+                                           "--odometry-noise",
+                                           "--rig",
+                                           "--speed-scale-error",
+                                           "--yaw-rate-bias",
+                                           "--rain-probability",
+                                           "--ground-echo-probability"};
+}  // namespace
+
 void ExcludeSimOptions(CLI::App* command, CLI::Option* by) {
-  for (const char* name :
-       {"--scenario", "--seed", "--duration", "--odometry-noise", "--rig", "--speed-scale-error",
-        "--yaw-rate-bias", "--rain-probability", "--ground-echo-probability"}) {
+  for (const char* name : kSimOptionNames) {
     CLI::Option* option = command->get_option_no_throw(name);
     if (option != nullptr && !by->get_excludes().count(option)) by->excludes(option);
+  }
+}
+
+void SimOptionsNeed(CLI::App* command, CLI::Option* by) {
+  for (const char* name : kSimOptionNames) {
+    CLI::Option* option = command->get_option_no_throw(name);
+    if (option != nullptr) option->needs(by);
   }
 }
 

@@ -25,6 +25,9 @@ void AddSimOptions(CLI::App* command, SimOptions* options);
 // After AddSimOptions: every simulation option refused beside `by` (an option that reads a log
 // instead of simulating a drive), which would leave them unread.
 void ExcludeSimOptions(CLI::App* command, CLI::Option* by);
+// After AddSimOptions: every simulation option refused without `by` (the option that makes the
+// command simulate its drives).
+void SimOptionsNeed(CLI::App* command, CLI::Option* by);
 
 // The simulation options; throws std::invalid_argument for a bad value.
 sim::SimulationOptions MakeSimulationOptions(const SimOptions& options);
