@@ -208,8 +208,8 @@ class LogEval {
 int Eval(const EvalOptions& options) {
   if (!options.single_seed.empty()) {
     std::cerr << "freespace eval: --seed " << options.single_seed
-              << ": eval scores the drives of --seeds (one drive: --seeds "
-              << options.single_seed << ")\n";
+              << ": eval scores the drives of --seeds (one drive: --seeds " << options.single_seed
+              << ")\n";
     return kExitSetup;
   }
   if (!options.seeds.seeds.empty()) {
@@ -251,7 +251,7 @@ Command AddEvalCommand(CLI::App& app) {
   // options are read with --seeds only.
   command->remove_option(command->get_option("--seed"));
   SimOptionsNeed(command, command->get_option("--seeds"));
-  ExcludeSimOptions(command, log);  // the log is the drive
+  ExcludeSimOptions(command, log);                                 // the log is the drive
   command->add_option("--seed", options->single_seed)->group("");  // hidden: says what to use
   command->add_option("--out", options->out, "Output directory")->capture_default_str();
   command->add_flag("--quiet", options->quiet, "Print nothing but errors");
