@@ -241,6 +241,28 @@ for field in "sweep_s: 0.016" "free_on_outline: false" "shape: inside" "max_vert
   grep -q "^  $field\$" "$src/configs/scala.yaml" || fail "configs/scala.yaml lacks '$field'"
 done
 
+# eval --seeds records the config its drives ran: with --rig surround, the rig's four sensors
+# and its footprint (the config's polygon kept), and the config runs the drive's log again.
+"$bin" eval --seeds 1 --scenarios parking --rig surround --duration 0.5 --quiet \
+  --config "$src/configs/scala.yaml" --out "$out/eval-rig" >"$out/eval-rig.txt" 2>&1 ||
+  fail "eval --rig surround failed: $(cat "$out/eval-rig.txt")"
+/usr/bin/python3 - "$out" <<'PY' || fail "seeds.json's config is not the rig's"
+import json, re, sys
+config = json.load(open(sys.argv[1] + "/eval-rig/seeds.json"))["config"]
+names = re.findall(r'^  - name: "(\w+)"$', config, re.M)
+if names != ["front_left", "front_right", "rear_left", "rear_right"]:
+    sys.exit("sensors %r in:\n%s" % (names, config))
+for field in ("footprint_length_m: 4.7", "shape: inside", "margin_cells: 1"):
+    if not re.search("^  " + field, config, re.M):
+        sys.exit("no '%s' in:\n%s" % (field, config))
+open(sys.argv[1] + "/eval-rig/config.yaml", "w").write(config)
+PY
+"$bin" simulate --rig surround --scenario parking --seed 1 --duration 0.5 --out "$out/sim-rig" \
+  >/dev/null 2>&1 || fail "simulate --rig surround failed"
+"$bin" eval --log "$out/sim-rig/sim.fslog" --truth "$out/sim-rig/truth.json" --quiet \
+  --config "$out/eval-rig/config.yaml" --out "$out/eval-rig-log" >"$out/eval-rig-log.txt" 2>&1 ||
+  fail "seeds.json's config does not run the rig's log: $(cat "$out/eval-rig-log.txt")"
+
 # Bad arguments.
 "$bin" demo --scenario moon --out "$out/x" >/dev/null 2>&1 && fail "unknown scenario accepted"
 "$bin" simulate --odometry-noise huge --out "$out/x" >/dev/null 2>&1 && fail "bad noise accepted"

@@ -80,7 +80,9 @@ int EvalSeeds(const EvalOptions& options) {
                 << drives.size() << " of " << planned << " drives\n";
     }
     const nlohmann::json summary = SeedSummary(drives);
-    WriteSeeds(options.out + "/seeds.json", config, summary, signal);
+    // The config the drives ran (their scanner or rig in it; the same rig for every drive).
+    WriteSeeds(options.out + "/seeds.json", drives.empty() ? config : drives.front().config,
+               summary, signal);
     if (!options.quiet) {
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

@@ -100,6 +100,7 @@ DriveEvaluation EvaluateDrive(const sim::SimulationOptions& options, const Confi
   DriveEvaluation drive;
   drive.scenario = simulation.scenario().name;
   drive.seed = options.seed;
+  drive.config = c;
   std::vector<Scan> cycle;
   while (simulation.NextCycle(&cycle)) {
     const Result& r = estimator.ProcessCycle(cycle);

@@ -23,6 +23,7 @@ struct DriveEvaluation {
   MetricsSeries metrics;
   StageSeries times;
   long rejected = 0;
+  Config config;  // the config the estimator ran: the drive's scanner or rig in it
 };
 
 // Simulates the drive of `options` and runs an estimator of `config` on every scan, scoring
