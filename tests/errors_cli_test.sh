@@ -121,8 +121,14 @@ for n, line in enumerate(open(sys.argv[1]), 1):
 if [ $full -eq 1 ]; then
   mkdir -p "$out/sim-full" && ln -s /dev/full "$out/sim-full/sim.fslog"
   expect 2 simulate-full "$bin" simulate --scenario parking --duration 1 --out "$out/sim-full"
-  names simulate-full "$out/sim-full/sim.fslog: write failed"
+  names simulate-full "$out/sim-full/sim.fslog: write failed: No space left on device"
 fi
+mkdir -p "$out/sim-dir/truth.json"
+expect 2 simulate-dir "$bin" simulate --scenario parking --duration 1 --out "$out/sim-dir"
+names simulate-dir "$out/sim-dir/truth.json: cannot create: Is a directory"
+mkdir -p "$out/map-dir/m.pgm"
+expect 2 map-dir run --out "$out/map-dir/o" --save-map "$out/map-dir/m"
+names map-dir "$out/map-dir/m.pgm: cannot create: Is a directory"
 mkdir -p "$out/eval-dir/eval.json"
 expect 2 eval-dir "$bin" eval --log "$log" --truth "$out/sim/truth.json" --out "$out/eval-dir" \
   --backend tbb

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/stream_error.hpp"
 #include "freespace/errors.hpp"
 
 namespace freespace {
@@ -32,12 +33,7 @@ void TextFile::Close() {
   if (!flushed || out_.fail()) Fail("write failed");
 }
 
-void TextFile::Fail(const char* what) const {
-  // errno is set by the failing system call on the platforms this builds on; an ofstream does
-  // not promise it, hence the fallback.
-  const std::string reason = errno != 0 ? std::strerror(errno) : "the stream reported an error";
-  throw OutputError(path_ + ": " + what + ": " + reason);
-}
+void TextFile::Fail(const char* what) const { throw StreamError(path_, what); }
 
 void WriteTextFile(const std::string& path, std::string_view text) {
   TextFile file(path);

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/stream_error.hpp"
 #include "freespace/errors.hpp"
 #include "geometry/geometry.hpp"
 
@@ -129,9 +130,10 @@ json HeaderJson(const Truth& truth) {
 
 }  // namespace
 
-TruthWriter::TruthWriter(const std::string& path, const Truth& header)
-    : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
-  if (!out_) throw OutputError(path + ": cannot create");
+TruthWriter::TruthWriter(const std::string& path, const Truth& header) : path_(path) {
+  errno = 0;
+  out_.open(path, std::ios::binary | std::ios::trunc);
+  if (!out_) throw StreamError(path, "cannot create");
   // JSON strings hold no raw newline, so the top-level key is the one match.
   const std::string text = HeaderJson(header).dump(1);
   const std::string key = "\n \"scans\": [";
@@ -151,6 +153,7 @@ void TruthWriter::Add(const TruthScan& scan) {
     indented += c;
     if (c == '\n') indented += "  ";
   }
+  errno = 0;
   out_ << indented;
   Check();
 }
@@ -158,6 +161,7 @@ void TruthWriter::Add(const TruthScan& scan) {
 void TruthWriter::Close() {
   if (closed_) return;
   closed_ = true;
+  errno = 0;
   if (scans_ > 0) out_ << "\n ";
   out_ << tail_ << "\n";
   out_.close();
@@ -165,7 +169,7 @@ void TruthWriter::Close() {
 }
 
 void TruthWriter::Check() {
-  if (out_.fail()) throw OutputError(path_ + ": write failed");
+  if (out_.fail()) throw StreamError(path_, "write failed");
 }
 
 void WriteTruth(const std::string& path, const Truth& truth) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/backend.hpp"
+#include "core/stream_error.hpp"
 #include "freespace/errors.hpp"
 #include "freespace/map_io.hpp"
 #include "io/text.hpp"
@@ -37,14 +38,16 @@ std::string Decimal(double v) {
 }
 
 std::ofstream OpenOut(const std::string& path) {
+  errno = 0;
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw OutputError(path + ": cannot create");
+  if (!out) throw StreamError(path, "cannot create");
   return out;
 }
 
 void Finish(std::ofstream& out, const std::string& path) {
+  errno = 0;
   out.close();
-  if (!out) throw OutputError(path + ": write failed");
+  if (!out) throw StreamError(path, "write failed");
 }
 
 std::string BaseName(const std::string& path) {

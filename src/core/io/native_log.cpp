@@ -17,6 +17,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/stream_error.hpp"
 #include "freespace/errors.hpp"
 #include "freespace/io.hpp"
 #include "readers.hpp"
@@ -288,9 +289,10 @@ std::string SweepField(const SensorConfig& s) {
 }
 }  // namespace
 
-NativeLogWriter::NativeLogWriter(const std::string& path, const SensorConfig& s)
-    : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
-  if (!out_) throw OutputError(path + ": cannot create");
+NativeLogWriter::NativeLogWriter(const std::string& path, const SensorConfig& s) : path_(path) {
+  errno = 0;
+  out_.open(path, std::ios::binary | std::ios::trunc);
+  if (!out_) throw StreamError(path, "cannot create");
   char line[512];
   std::snprintf(line, sizeof line,
                 "FREESPACE_LOG 1\n# SENSOR layers min_angle_deg max_angle_deg resolution_deg "
@@ -310,8 +312,9 @@ NativeLogWriter::NativeLogWriter(const std::string& path, const std::vector<Sens
     *this = NativeLogWriter(path, sensors.front());
     return;
   }
+  errno = 0;
   out_.open(path, std::ios::binary | std::ios::trunc);
-  if (!out_) throw OutputError(path + ": cannot create");
+  if (!out_) throw StreamError(path, "cannot create");
   version_ = 2;
   sensors_ = int(sensors.size());
   out_ << "FREESPACE_LOG 2\n# SENSOR name layers min_angle_deg max_angle_deg resolution_deg "
@@ -331,7 +334,7 @@ NativeLogWriter::NativeLogWriter(const std::string& path, const std::vector<Sens
                 rig.footprint_width_m);
   out_ << line;
   out_ << "# SCAN sensor t_s x_m y_m yaw_rad n (layer angle_deg range_m|-)*n\n";
-  if (!out_) throw OutputError(path_ + ": write failed");
+  if (!out_) throw StreamError(path_, "write failed");
 }
 
 void NativeLogWriter::Write(const Scan& scan) {
@@ -361,18 +364,22 @@ void NativeLogWriter::Write(const Scan& scan) {
     text += buffer;
   }
   text += '\n';
+  errno = 0;
   out_ << text;
-  if (!out_) throw OutputError(path_ + ": write failed");
+  if (!out_) throw StreamError(path_, "write failed");
 }
 
 void NativeLogWriter::Close() {
+  errno = 0;
   out_.close();
-  if (out_.fail()) throw OutputError(path_ + ": write failed");
+  if (out_.fail()) throw StreamError(path_, "write failed");
 }
 
 RobotLaserWriter::RobotLaserWriter(const std::string& path, const SensorConfig& sensor)
-    : path_(path), sensor_(sensor), out_(path, std::ios::binary | std::ios::trunc) {
-  if (!out_) throw OutputError(path + ": cannot create");
+    : path_(path), sensor_(sensor) {
+  errno = 0;
+  out_.open(path, std::ios::binary | std::ios::trunc);
+  if (!out_) throw StreamError(path, "cannot create");
   out_ << "# ROBOTLASER1 type start_angle fov angular_res max_range accuracy remission_mode n "
           "ranges m remissions laser_x laser_y laser_theta robot_x robot_y robot_theta tv rv "
           "forward_safety side_safety turn_axis ipc_timestamp ipc_hostname logger_timestamp\n"
@@ -410,14 +417,16 @@ void RobotLaserWriter::Write(const Scan& scan) {
                   " 0 %.6f %.6f %.9f %.6f %.6f %.9f 0 0 0 0 0 %.6f freespace %.6f\n", lx, ly, lt,
                   scan.pose.x, scan.pose.y, scan.pose.yaw, scan.timestamp_s, scan.timestamp_s);
     text += buffer;
+    errno = 0;
     out_ << text;
   }
-  if (!out_) throw OutputError(path_ + ": write failed");
+  if (!out_) throw StreamError(path_, "write failed");
 }
 
 void RobotLaserWriter::Close() {
+  errno = 0;
   out_.close();
-  if (out_.fail()) throw OutputError(path_ + ": write failed");
+  if (out_.fail()) throw StreamError(path_, "write failed");
 }
 
 }  // namespace freespace
