@@ -237,16 +237,19 @@ TEST(RosBagIo, OutBagHoldsAGridAndAPolygonPerScan) {
   EXPECT_EQ(polygons, 12u);
   EXPECT_GT(results.back().polygon.size(), 3u);
 
-  // The command line: the same bag in, a bag out, one polygons.jsonl line per scan.
+  // The command line: the same bag in, a bag out (into folders it makes), one polygons.jsonl
+  // line per scan.
   const std::string dir = TempPath("cli");
+  std::filesystem::remove_all(dir);
   const std::string command = std::string(FREESPACE_CLI_PATH) + " run --quiet --log " + in +
-                              " --out " + dir + " --out-bag " + dir + "/out.bag 2>" + dir + ".err";
+                              " --out " + dir + " --out-bag " + dir + "/bags/new/out.bag 2>" +
+                              dir + ".err";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   std::ifstream lines(dir + "/polygons.jsonl");
   int n = 0;
   for (std::string line; std::getline(lines, line);) ++n;
   EXPECT_EQ(n, 12);
-  rosbag::Bag cli_bag(dir + "/out.bag", rosbag::bagmode::Read);
+  rosbag::Bag cli_bag(dir + "/bags/new/out.bag", rosbag::bagmode::Read);
   EXPECT_EQ(rosbag::View(cli_bag).size(), 24u);
 }
 

@@ -2,10 +2,12 @@
 // freespace_ros (ros/).
 #include "bag_options.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "core/layer_cut.hpp"
+#include "engine_options.hpp"
 #include "freespace/errors.hpp"
 
 #ifdef FREESPACE_WITH_ROS
@@ -147,6 +149,9 @@ BagOutput::~BagOutput() = default;
 void BagOutput::Open(const BagCliOptions& options) {
   if (options.out_bag.empty()) return;
 #ifdef FREESPACE_WITH_ROS
+  // Its folder is made as --out's and --save-map's are.
+  const std::filesystem::path parent = std::filesystem::path(options.out_bag).parent_path();
+  if (!parent.empty()) MakeDirectories(parent.string());
   impl_->writer =
       std::make_unique<ros_bag::BagResultWriter>(options.out_bag, options.out_bag_frame);
 #else
