@@ -184,6 +184,10 @@ names log-and-sim "--log excludes --duration"
 expect 2 bench-log-and-sim "$bin" bench --log "$log" --seed 7 --out "$out/x"
 expect 2 rig-soak "$bin" bench --scenario urban --rig surround --soak 50 --out "$out/x"
 names rig-soak "without --scaling or --soak"
+expect 2 rig-sensor-set "$bin" bench --scenario urban --rig surround --duration 1 \
+  --set sensor.layers=2 --out "$out/x"
+names rig-sensor-set "the simulated rig's own scanners"
+grep -q "median_us" "$out/rig-sensor-set.txt" && fail "bench --rig printed its table, then refused"
 expect 2 topic-not-bag run --out "$out/x" --scan-topic /scan
 names topic-not-bag "--scan-topic does not apply to a freespace log"
 expect 2 layers-not-kitti run --out "$out/x" --kitti-layers=-1,1

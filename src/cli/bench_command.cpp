@@ -110,12 +110,13 @@ std::vector<std::vector<Scan>> SimulateCycles(sim::SimulationOptions options, in
 
 int RunRig(const BenchCommandOptions& options) {
   nlohmann::json runs = nlohmann::json::array();
-  std::printf("%-8s %-10s %8s %10s %10s %12s %12s\n", "backend", "rig", "cycles", "median_us",
-              "p99_us", "preprocess", "update");
   try {
     RefuseSensorSettings(options.engine, "bench --rig times the simulated rig's own scanners");
-    MakeDirectories(options.out);
+    const Config base = LoadEngineConfig(options.engine, nullptr);  // refused before the table
     const BenchOptions suite = SuiteOptions(options);
+    MakeDirectories(options.out);
+    std::printf("%-8s %-10s %8s %10s %10s %12s %12s\n", "backend", "rig", "cycles", "median_us",
+                "p99_us", "preprocess", "update");
     for (const BackendKind kind : suite.backends) {
       double front_median = 0.0;
       for (const std::string& name : {std::string("front"), options.sim.rig}) {
@@ -123,7 +124,7 @@ int RunRig(const BenchCommandOptions& options) {
         sim.rig = name;
         sim::Rig rig;
         const std::vector<std::vector<Scan>> cycles = SimulateCycles(sim, options.scans, &rig);
-        Config config = sim::WithRig(LoadEngineConfig(options.engine, nullptr), rig);
+        Config config = sim::WithRig(base, rig);
         config.backend.kind = kind;
         const PipelineRun run = TimeCycles(config, cycles, options.warmup);
         const double median = run.times.Quantile("total", 0.5);
