@@ -241,6 +241,21 @@ for field in "sweep_s: 0.016" "free_on_outline: false" "shape: inside" "max_vert
   grep -q "^  $field\$" "$src/configs/scala.yaml" || fail "configs/scala.yaml lacks '$field'"
 done
 
+# summary.json's polygon counts: a scan without a polygon (nothing free around the sensor yet, as
+# at the first scan of this drive with the default config) is no_free_space, not a polygon that
+# missed the vehicle.
+"$bin" simulate --scenario parking --duration 2 --seed 3 --out "$out/p3" >/dev/null 2>&1 ||
+  fail "simulate parking failed"
+"$bin" run --log "$out/p3/sim.fslog" --out "$out/p3-run" --quiet 2>/dev/null ||
+  fail "run of the parking drive failed"
+/usr/bin/python3 - "$out/p3-run" <<'PY' || fail "summary.json's polygon counts"
+import json, sys
+summary = json.load(open(sys.argv[1] + "/summary.json"))["polygon"]
+none = sum(json.loads(l)["polygon_status"] == "no_free_space" for l in open(sys.argv[1] + "/polygons.jsonl"))
+if none < 1 or summary["no_free_space"] != none or summary["vehicle_outside"] != 0:
+    sys.exit("%d scans without a polygon; summary %r" % (none, summary))
+PY
+
 # eval --seeds records the config its drives ran: with --rig surround, the rig's four sensors
 # and its footprint (the config's polygon kept), and the config runs the drive's log again.
 "$bin" eval --seeds 1 --scenarios parking --rig surround --duration 0.5 --quiet \

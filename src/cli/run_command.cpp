@@ -71,7 +71,7 @@ struct RunTally {
   long stalled = 0;  // scans used while the clock stalled
   long swept = 0;    // scans placed from the sensor's motion during its sweep (sensor.sweep_s)
   long invalid_range = 0, out_of_aperture = 0, bad_layer = 0, clutter = 0, virtual_points = 0;
-  long points = 0, max_vertices = 0, vehicle_outside = 0;
+  long points = 0, max_vertices = 0, vehicle_outside = 0, no_free_space = 0;
   double vertex_sum = 0;
   std::size_t snapshots = 0;
   std::map<std::string, long> rejected;  // by reason
@@ -90,7 +90,12 @@ struct RunTally {
     times.Add(r.times);
     vertex_sum += double(r.polygon.size());
     max_vertices = std::max<long>(max_vertices, long(r.polygon.size()));
-    vehicle_outside += r.polygon_contains_vehicle ? 0 : 1;
+    // A scan without a polygon (nothing free around yet) misses nothing: counted apart.
+    if (r.polygon_status == PolygonStatus::kOk) {
+      vehicle_outside += r.polygon_contains_vehicle ? 0 : 1;
+    } else {
+      ++no_free_space;
+    }
   }
   long Rejected() const {
     long total = 0;
@@ -390,7 +395,8 @@ class LogRun {
         {"polygon",
          {{"max_vertices", t.max_vertices},
           {"mean_vertices", t.processed ? t.vertex_sum / t.processed : 0.0},
-          {"vehicle_outside", t.vehicle_outside}}},
+          {"vehicle_outside", t.vehicle_outside},
+          {"no_free_space", t.no_free_space}}},
         {"snapshots", t.snapshots},
         {"wall_s", seconds_},
         {"interrupted_by", signal_ != 0 ? nlohmann::json(SignalName(signal_)) : nlohmann::json()},
