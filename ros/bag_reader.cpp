@@ -219,7 +219,10 @@ void BagReader::Load() {
   try {
     bag_.open(path_, rosbag::bagmode::Read);
   } catch (const rosbag::BagException& e) {
-    throw InputError(path_ + ": not a readable ROS bag: " + e.what());
+    // The head says ROS bag (IsRosBag): most often one cut short, whose index is missing.
+    throw InputError(path_ + ": not a readable ROS bag: " + e.what() +
+                     " (a bag cut short or not closed by its writer has no index; `rosbag "
+                     "reindex` repairs it)");
   }
   std::map<std::string, std::string> types;
   for (const rosbag::ConnectionInfo* c : rosbag::View(bag_).getConnections()) {

@@ -1,5 +1,6 @@
 // `freespace`: the command-line tool. See `freespace --help` and the README.
 #include <iostream>
+#include <string>
 #include <vector>
 
 #include "commands.hpp"
@@ -22,8 +23,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("freespace ") + freespace::LibraryVersion());
   app.require_subcommand(1);
   app.footer(
-      "Exit codes: 0 ok; 1 stopped on bad input (--strict) or a failed check; 2 bad usage,\n"
-      "config, log or backend. Run `freespace <command> --help` for a command's options.");
+      "Exit codes: 0 ok; 1 run stopped on bad input (--strict); 2 bad usage, config, log,\n"
+      "backend (a failed devices --check) or output; 130 / 143 stopped by Ctrl-C / SIGTERM.\n"
+      "Run `freespace <command> --help` for a command's options.");
 
   std::vector<freespace::cli::Command> commands;
   commands.push_back(freespace::cli::AddDemoCommand(app));
@@ -34,6 +36,20 @@ int main(int argc, char** argv) {
   commands.push_back(freespace::cli::AddDevicesCommand(app));
   freespace::cli::CheckNumbers(&app);
 
+  // A first word that names no command (CLI11 would only say that one is required).
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const auto& command : commands) {
+      known = known || command.app->get_name() == argv[1];
+      names += (names.empty() ? "" : ", ") + command.app->get_name();
+    }
+    if (!known) {
+      std::cerr << "freespace: no command '" << argv[1] << "' (commands: " << names
+                << "; freespace --help)\n";
+      return freespace::cli::kExitSetup;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -33,7 +33,8 @@ std::uint64_t Number(const std::string& text, const std::string& whole) {
   if (text.empty() || used != text.size() || text[0] == '-' || text[0] == '+' ||
       (text[0] == '0' && text.size() > 1)) {
     throw std::invalid_argument("--seeds '" + whole + "': '" + text +
-                                "' is not a seed (decimal digits, no leading zero)");
+                                "' is not a seed (decimal digits, no leading zero, at most "
+                                "18446744073709551615)");
   }
   return v;
 }

@@ -106,7 +106,11 @@ void PrintPolygonShapes(std::FILE* out, const BenchReport& r) {
   for (const char* stage : {"mask", "insight", "polygon", "total"}) {
     const double a = r.paper_shape.times.Quantile(stage, 0.5);
     const double b = r.inside_shape.times.Quantile(stage, 0.5);
-    std::fprintf(out, "  %-36s %10.1f   %10.1f   %5.2f\n", stage, a, b, a > 0 ? b / a : NAN);
+    if (a > 0) {
+      std::fprintf(out, "  %-36s %10.1f   %10.1f   %5.2f\n", stage, a, b, b / a);
+    } else {  // the paper's polygon has no mask stage: no ratio
+      std::fprintf(out, "  %-36s %10.1f   %10.1f       -\n", stage, a, b);
+    }
   }
 }
 
