@@ -284,7 +284,7 @@ Command AddBenchCommand(CLI::App& app) {
       ->capture_default_str();
   AddSimOptions(command, &options->sim);
   CLI::Option* scenario = command->get_option("--scenario");
-  scenario->default_str("");  // bench has no default drive: --log or --scenario
+  scenario->default_str("");        // bench has no default drive: --log or --scenario
   ExcludeSimOptions(command, log);  // the log is the drive
   AddEngineOptions(command, &options->engine);
   return {command, [options, scenario] {
