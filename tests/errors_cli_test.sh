@@ -174,6 +174,8 @@ expect 2 scenarios-alone "$bin" demo --scenarios highway --duration 0.1 --out "$
 names scenarios-alone "--scenarios requires --seeds"
 expect 2 seeds-and-seed "$bin" eval --seeds 1 --seed 9 --duration 0.1 --out "$out/x"
 names seeds-and-seed "one drive: --seeds 9"
+expect 2 empty-seeds "$bin" eval --seeds '' --out "$out/x"
+names empty-seeds "--seeds: empty"
 expect 2 eval-seed "$bin" eval --seed 3 --out "$out/x"
 names eval-seed "one drive: --seeds 3"
 expect 2 eval-scenario "$bin" eval --scenario parking --out "$out/x"

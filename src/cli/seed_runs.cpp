@@ -42,12 +42,19 @@ std::uint64_t Number(const std::string& text, const std::string& whole) {
 }  // namespace
 
 void AddSeedOptions(CLI::App* command, SeedOptions* o) {
-  command->add_option("--seeds", o->seeds,
-                      "Drives of these seeds (\"1-10\", \"1,4,7-9\"): the table of means over "
-                      "seeds, worst seed and pooled figures, and OUT/seeds.json");
-  command->add_option("--scenarios", o->scenarios,
-                      "With --seeds: scenarios, comma-separated, or \"all\" (default: "
-                      "--scenario)");
+  const auto not_empty = [](const std::string& text) {
+    return text.empty() ? std::string("empty") : std::string();
+  };
+  command
+      ->add_option("--seeds", o->seeds,
+                   "Drives of these seeds (\"1-10\", \"1,4,7-9\"): the table of means over "
+                   "seeds, worst seed and pooled figures, and OUT/seeds.json")
+      ->check(not_empty);
+  command
+      ->add_option("--scenarios", o->scenarios,
+                   "With --seeds: scenarios, comma-separated, or \"all\" (default: "
+                   "--scenario)")
+      ->check(not_empty);
 }
 
 void LinkSeedOptions(CLI::App* command) {
