@@ -202,5 +202,9 @@ expect 2 seeds-and-video "$bin" demo --seeds 1 --video-every 4 --duration 0.1 --
 expect 2 sensor-set-seeds "$bin" eval --seeds 1 --set sensor.max_range_m=5 --duration 0.1 \
   --out "$out/x"
 names sensor-set-seeds "each drive's scanner is the sensor"
+printf 'sensor:\n  layers: 4\n' >"$out/sensor.yaml"
+expect 2 sensor-set-rig "$bin" eval --seeds 1 --rig surround --config "$out/sensor.yaml" \
+  --set sensor.max_range_m=50 --duration 0.1 --out "$out/x"
+names sensor-set-rig "the scanners of --rig surround are the sensors of its drives"
 
 echo "errors_cli: all cases passed"

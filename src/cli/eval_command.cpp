@@ -53,6 +53,10 @@ int EvalSeeds(const EvalOptions& options) {
                            "each drive's scanner is the sensor of eval --seeds (a --config with a "
                            "sensor section replaces it, and --set then changes that)");
     }
+    if (sim::MakeRig(options.sim.rig, {}).several()) {  // EvaluateDrive takes the rig's own
+      RefuseSensorSettings(options.engine, "the scanners of --rig " + options.sim.rig +
+                                               " are the sensors of its drives");
+    }
     MakeDirectories(options.out);
   } catch (const std::exception& e) {
     std::cerr << "freespace eval: " << e.what() << "\n";
