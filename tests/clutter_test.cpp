@@ -134,6 +134,39 @@ TEST(Clutter, MatchesAllPairsDbscanOnRandomBlobs) {
   }
 }
 
+// The same for neighbourhoods beyond the few neighbours each echo remembers: min_points and
+// min_cluster_size up to 30, on blobs of up to 60 echoes (min_points of 10 and more once wrote
+// past each echo's record).
+TEST(Clutter, MatchesAllPairsDbscanWithLargeMinimums) {
+  std::mt19937 rng(37);
+  for (const auto& [min_points, min_size] : {std::pair{9, 9}, std::pair{10, 12}, std::pair{16, 5},
+                                             std::pair{30, 30}, std::pair{3, 30}}) {
+    ClutterConfig c = Params(0.4, 0.01);
+    c.min_points = min_points;
+    c.min_cluster_size = min_size;
+    for (int trial = 0; trial < 8; ++trial) {
+      std::vector<EchoPoint> points;
+      for (int blob = 0; blob < 25; ++blob) {
+        const double r = 4.0 + 6.0 * (blob % 5) + 3.0 * (trial % 2);
+        const double a = (-60.0 + 25.0 * (blob / 5)) * M_PI / 180.0;
+        const int size = int(rng() % 61);
+        std::normal_distribution<double> jitter(0.0, 0.12);
+        for (int k = 0; k < size; ++k) {
+          points.push_back(At(r * std::cos(a) + jitter(rng), r * std::sin(a) + jitter(rng)));
+        }
+      }
+      std::shuffle(points.begin(), points.end(), rng);
+      ClutterFilter filter(c, kBins, kBin);
+      std::vector<std::uint8_t> keep;
+      filter.Run(points, &keep);
+      const std::vector<std::uint8_t> expected = BruteForce(points, c);
+      EXPECT_EQ(keep, expected) << "min_points " << min_points << ", trial " << trial;
+      EXPECT_GT(std::count(expected.begin(), expected.end(), 1), 0);
+      EXPECT_GT(std::count(expected.begin(), expected.end(), 0), 0);
+    }
+  }
+}
+
 // The passes on a backend's own threads (Backend::HostCrew, as the OpenCL backend split over
 // devices has) give the same result as on TBB's, with many chunks per pass and threads racing
 // on the union-find.

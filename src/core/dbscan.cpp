@@ -167,13 +167,18 @@ int ClutterFilter::Run(const std::vector<EchoPoint>& points, std::vector<std::ui
     last_[a] = hi;
     parent_[a].store(a, std::memory_order_relaxed);
 
+    // Counted up to `wanted`, the first kMaxRecorded of them kept (min_points may ask more).
     std::int32_t* found = found_.data() + std::size_t(a) * kMaxRecorded;
     int count = 0;
+    const auto add = [&](int b) {
+      if (count < kMaxRecorded) found[count] = b;
+      ++count;
+    };
     for (int d = 1; count < wanted && (a - d >= lo || a + d < hi); ++d) {
-      if (a - d >= lo && near(a, a - d)) found[count++] = a - d;
-      if (count < wanted && a + d < hi && near(a, a + d)) found[count++] = a + d;
+      if (a - d >= lo && near(a, a - d)) add(a - d);
+      if (count < wanted && a + d < hi && near(a, a + d)) add(a + d);
     }
-    found_count_[a] = std::uint8_t(count);
+    found_count_[a] = std::uint8_t(std::min(count, kMaxRecorded));
     core_[a] = count + 1 >= min_points;
   });
 
