@@ -31,6 +31,12 @@ double ScanReachCells(const Config& c) {
          std::hypot(c.sensor.mount_x_m, c.sensor.mount_y_m) / c.map.resolution_m;
 }
 
+// The beams of a scan, which the preprocessing holds room for.
+double ScanBeams(const SensorConfig& s) {
+  return double(s.layers) *
+         (std::floor((s.max_angle_deg - s.min_angle_deg) / s.angular_resolution_deg + 0.5) + 1.0);
+}
+
 double HalfSmallerSideCells(const Config& c) {
   return 0.5 * std::min(c.map.width_cells, c.map.height_cells);
 }
@@ -59,6 +65,11 @@ const Relation kSensorRelations[] = {
        return c.sensor.no_echo_margin_m < c.sensor.max_range_m - c.sensor.min_range_m;
      },
      nullptr},
+    {"sensor.angular_resolution_deg",
+     "must leave at most 1048576 beams a scan: layers x ((max_angle_deg - min_angle_deg) / "
+     "angular_resolution_deg + 1)",
+     [](const Config& c) { return ScanBeams(c.sensor) <= 1048576.0; },
+     [](const Config& c) { return " (" + Format(ScanBeams(c.sensor)) + ")"; }},
 };
 
 const Relation kRelations[] = {
