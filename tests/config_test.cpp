@@ -321,9 +321,10 @@ TEST(ConfigDocs, ConfigurationMdListsEveryFieldAsTheTableDoes) {
     std::string a, b;
     const bool more_a = bool(std::getline(have, a)), more_b = bool(std::getline(want, b));
     if (!more_a && !more_b) break;
-    ASSERT_EQ(a, b) << path << ": line " << line << " of the field rows differs from the field "
-                    << "table (src/core/config_table.hpp); run this test with FREESPACE_UPDATE_DOCS=1 "
-                    << "to rewrite the rows";
+    ASSERT_EQ(a, b)
+        << path << ": line " << line << " of the field rows differs from the field "
+        << "table (src/core/config_table.hpp); run this test with FREESPACE_UPDATE_DOCS=1 "
+        << "to rewrite the rows";
   }
 }
 
