@@ -36,6 +36,14 @@ printf 'alignment:\n  time_jitter_s: 0.1\n' >"$out/strict-clock.yaml"
   2>"$out/intel-clock.err" || fail "run with time_jitter_s 0.1 failed"
 grep -q '"timestamp_not_increasing"' "$out/intel-clock/summary.json" || fail "no rejected scans"
 grep -q "more than alignment.time_jitter_s" "$out/intel-clock.err" || fail "rejection message"
+# A sensor section replaces the log's sensor whole, a partial one too: a note says so, and
+# none without a section.
+printf 'sensor:\n  mount_x_m: 0.1\n' >"$out/partial-sensor.yaml"
+"$bin" run --log "$log" --out "$out/intel-partial" --config "$out/partial-sensor.yaml" \
+  --max-scans 3 --quiet 2>"$out/intel-partial.err" || fail "run with a partial sensor failed"
+grep -qF "the config's sensor section replaces the log's sensor (1 layer(s), -90 .. 89 deg" \
+  "$out/intel-partial.err" || fail "no note of the replaced sensor: $(cat "$out/intel-partial.err")"
+grep -q "replaces the log's sensor" "$out/intel.err" && fail "a note without a sensor section"
 
 # The last scan rejected (the first again, 200 s back): the closing snapshot is the last
 # processed scan's (59), not the rejected one's.

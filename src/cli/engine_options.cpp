@@ -86,6 +86,29 @@ Config LoadEngineConfig(const EngineOptions& options, const LogSensors& log, con
   return Load(options, &log, base);
 }
 
+namespace {
+std::string Geometry(const SensorConfig& s) {
+  std::ostringstream out;
+  out << s.layers << " layer(s), " << s.min_angle_deg << " .. " << s.max_angle_deg << " deg at "
+      << s.angular_resolution_deg << " deg, " << s.min_range_m << " .. " << s.max_range_m << " m";
+  return out.str();
+}
+}  // namespace
+
+std::string SensorReplacedNote(const std::vector<SensorConfig>& log, const Config& config) {
+  if (log.size() != 1 || config.is_rig()) return "";
+  const SensorConfig &a = log.front(), &b = config.sensor;
+  if (a.layers == b.layers && a.min_angle_deg == b.min_angle_deg &&
+      a.max_angle_deg == b.max_angle_deg && a.angular_resolution_deg == b.angular_resolution_deg &&
+      a.min_range_m == b.min_range_m && a.max_range_m == b.max_range_m) {
+    return "";
+  }
+  return "the config's sensor section replaces the log's sensor (" + Geometry(a) + ") with " +
+         Geometry(b) +
+         "; the fields it leaves out keep their defaults, not the log's (leave the section out "
+         "to take the log's sensor)";
+}
+
 bool ConfigSetsSensor(const EngineOptions& options) {
   if (options.config_path.empty()) return false;
   std::ifstream in(options.config_path);

@@ -39,6 +39,11 @@ struct LogSensors {
 Config LoadEngineConfig(const EngineOptions& options, const LogSensors& log,
                         const Config& base = Config());
 
+// When the config's one sensor replaced a log's one sensor of another geometry (layers,
+// aperture, beam spacing, ranges): a line that says both, and that the fields a partial `sensor`
+// section leaves out keep the defaults, not the log's. Empty otherwise.
+std::string SensorReplacedNote(const std::vector<SensorConfig>& log, const Config& config);
+
 // Whether the file of --config has a `sensor` section or a `sensors` list (false without
 // --config). Throws ConfigError when it cannot be read.
 bool ConfigSetsSensor(const EngineOptions& options);

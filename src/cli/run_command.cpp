@@ -147,6 +147,8 @@ class LogRun {
       reader_ = OpenInput(options_.log, log_options, options_.bag);
       LogSensors sensors{reader_->sensors(), reader_->rig()};
       config_ = LoadEngineConfig(options_.engine, sensors);
+      const std::string replaced = SensorReplacedNote(reader_->sensors(), config_);
+      if (!replaced.empty()) std::cerr << "note: " << replaced << "\n";
       if (reader_->sensors().size() > std::size_t(config_.sensor_count())) {
         throw ConfigError("config: the log holds scans of " +
                           std::to_string(reader_->sensors().size()) + " sensors, the config has " +
@@ -226,7 +228,8 @@ class LogRun {
     }
     std::cerr << "freespace run: " << options_.log << ": " << s.layers << " layer(s), "
               << s.min_angle_deg << " .. " << s.max_angle_deg << " deg at "
-              << s.angular_resolution_deg << " deg, no echo at >= " << s.max_range_m
+              << s.angular_resolution_deg << " deg, no echo at >= "
+              << s.max_range_m - s.no_echo_margin_m
               << " m; backend " << estimator_->backend_name() << "; map " << config_.map.width_cells
               << " x " << config_.map.height_cells << " at " << config_.map.resolution_m << " m\n";
   }
