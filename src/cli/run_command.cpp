@@ -228,10 +228,10 @@ class LogRun {
     }
     std::cerr << "freespace run: " << options_.log << ": " << s.layers << " layer(s), "
               << s.min_angle_deg << " .. " << s.max_angle_deg << " deg at "
-              << s.angular_resolution_deg << " deg, no echo at >= "
-              << s.max_range_m - s.no_echo_margin_m
-              << " m; backend " << estimator_->backend_name() << "; map " << config_.map.width_cells
-              << " x " << config_.map.height_cells << " at " << config_.map.resolution_m << " m\n";
+              << s.angular_resolution_deg
+              << " deg, no echo at >= " << s.max_range_m - s.no_echo_margin_m << " m; backend "
+              << estimator_->backend_name() << "; map " << config_.map.width_cells << " x "
+              << config_.map.height_cells << " at " << config_.map.resolution_m << " m\n";
   }
 
   // Every scan of the log (up to --max-scans); kExitBadInput when --strict stops it.
