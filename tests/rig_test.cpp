@@ -195,6 +195,32 @@ TEST(RigEstimator, BadCyclesAreRejectedAndChangeNothing) {
   EXPECT_EQ(single.ProcessCycle(std::vector<Scan>{a}).status, ScanStatus::kOk);
 }
 
+// A scan of a cycle that Process() would reject for its time is rejected with its cycle, though
+// the alignment only sees the cycle's newest scan: a stale frame of one sensor, 50 s (or 2 s)
+// before the latest accepted scan, changes nothing. Within alignment.time_jitter_s it is taken.
+TEST(RigEstimator, AScanOlderThanTheLastCycleRejectsItsCycle) {
+  Estimator rig(TwoAlike());
+  ASSERT_EQ(rig.ProcessCycle(std::vector<Scan>{Wall(10.0, {0, 0, 0}, 0, 12.0),
+                                               Wall(10.01, {0, 0, 0}, 1, 12.0)})
+                .status,
+            ScanStatus::kOk);
+  const MapView before = rig.map();
+  const std::vector<LogOdds> kept(before.log_odds, before.log_odds + before.width * before.height);
+  for (const double stale : {-40.0, 8.0}) {
+    const Result& r = rig.ProcessCycle(
+        std::vector<Scan>{Wall(stale, {0.5, 0, 0}, 0, 11.0), Wall(10.1, {0.5, 0, 0}, 1, 11.0)});
+    EXPECT_EQ(r.reject_reason, RejectReason::kTimestampNotIncreasing) << stale;
+    EXPECT_NE(r.message.find("sensor 0 (a)"), std::string::npos) << r.message;
+    const MapView after = rig.map();
+    for (int i = 0; i < after.width * after.height; ++i) ASSERT_EQ(after.log_odds[i], kept[i]);
+  }
+  // 0.5 s back: within the default 1 s of clock jitter, as Process() takes it.
+  EXPECT_EQ(rig.ProcessCycle(std::vector<Scan>{Wall(9.51, {0.5, 0, 0}, 0, 11.0),
+                                               Wall(10.1, {0.5, 0, 0}, 1, 11.0)})
+                .status,
+            ScanStatus::kOk);
+}
+
 // A rig of one sensor whose reference point is that sensor is the single sensor, bit for bit.
 TEST(RigEstimator, OneSensorRigAtItsReferenceIsTheSingleSensor) {
   sim::SimulationOptions options;

@@ -20,7 +20,7 @@ enum class ScanStatus {
 enum class RejectReason {
   kNone,
   kTimestampNotFinite,
-  kTimestampNotIncreasing,  // before the previous accepted scan by more than time_jitter_s
+  kTimestampNotIncreasing,  // before the latest accepted timestamp by more than time_jitter_s
   kPoseNotFinite,
   kTimestampOutOfRange,  // |t| > kMaxTimestampS (freespace/scan.hpp)
   kPoseOutOfRange,       // |x| or |y| > kMaxCoordinateM, or a map shift no integer can hold

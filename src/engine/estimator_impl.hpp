@@ -112,6 +112,7 @@ class Estimator::Impl {
   };
   void MakeRig();
   bool CheckCycle(const Scan* scans, int count);
+  bool CheckCycleTimes(const Scan* scans, int count);
   bool CheckCycleSpread(const Scan* scans, int newest);
   bool PreprocessCycle(const Scan* scans);
   void UpdateMapCycle(const Scan* scans);

@@ -99,6 +99,27 @@ bool Estimator::Impl::CheckCycle(const Scan* scans, int count) {
   return true;
 }
 
+// Every scan no earlier than the latest accepted time less alignment.time_jitter_s, as Process()
+// takes a scan: the alignment sees the cycle's newest scan only, and an older one of another
+// sensor would otherwise be fused however stale.
+bool Estimator::Impl::CheckCycleTimes(const Scan* scans, int count) {
+  if (!circle_.started()) return true;
+  const double previous = circle_.last_timestamp(), jitter = config_.alignment.time_jitter_s;
+  for (int i = 0; i < count; ++i) {
+    const Scan& scan = scans[i];
+    if (scan.timestamp_s - previous >= -jitter) continue;
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  "the scan of sensor %d (%s) at %.6f s is %.3f s before the latest accepted "
+                  "scan's %.6f s (more than alignment.time_jitter_s %.3f s)",
+                  scan.sensor, config_.sensors[scan.sensor].name.c_str(), scan.timestamp_s,
+                  previous - scan.timestamp_s, previous, jitter);
+    Reject(RejectReason::kTimestampNotIncreasing, text);
+    return false;
+  }
+  return true;
+}
+
 // Every scan's sensor within reach of the reference point: no farther from it than its mount
 // plus what the vehicle can travel between the two scans' times (alignment.max_speed_mps and
 // jump_slack_m), and inside the map's diagonal, so that each scan lands in the map. Fills
@@ -316,6 +337,7 @@ const Result& Estimator::Impl::ProcessCycle(const Scan* scans, int count) {
   for (int i = 0; i < count; ++i) {
     if (!CheckInput(scans[i])) return finish();
   }
+  if (!CheckCycleTimes(scans, count)) return finish();
   SensorConfig reference;
   reference.mount_x_m = config_.rig.reference_x_m;
   reference.mount_y_m = config_.rig.reference_y_m;
