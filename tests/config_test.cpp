@@ -75,6 +75,19 @@ TEST(Config, OpenClWaitNamesAndLimits) {
             std::string::npos);
 }
 
+// A directory is no config file (a stream opens it on Linux and reads nothing, which would be
+// the empty config, every field a default); nor is a missing path.
+TEST(Config, AFileThatIsADirectoryOrMissingIsAConfigError) {
+  const std::string dir = ::testing::TempDir();
+  try {
+    Config::FromYamlFile(dir);
+    ADD_FAILURE() << "a directory read as a config";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(Config::FromYamlFile(dir + "/no-such-config.yaml"), ConfigError);
+}
+
 TEST(Config, MissingFieldsKeepDefaults) {
   const Config c = Config::FromYaml("map:\n  resolution_m: 0.1\n");
   EXPECT_DOUBLE_EQ(c.map.resolution_m, 0.1);

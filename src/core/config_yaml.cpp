@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -325,10 +326,17 @@ Config Config::FromYaml(const std::string& yaml_text, const std::string& source)
 }
 
 Config Config::FromYamlFile(const std::string& path) {
+  // A directory opens as a stream on Linux and reads as nothing, which is a valid empty config:
+  // refused, as is a read that fails part way.
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw ConfigError("config: '" + path + "' is a directory, not a config file");
+  }
   std::ifstream in(path);
   if (!in) throw ConfigError("config: cannot open '" + path + "'");
   std::stringstream text;
   text << in.rdbuf();
+  if (in.bad()) throw ConfigError("config: cannot read '" + path + "'");
   return FromYaml(text.str(), path);
 }
 
