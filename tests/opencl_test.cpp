@@ -8,12 +8,14 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "freespace/estimator.hpp"
 #include "host/host_backend.hpp"
 #include "opencl/backend.hpp"
 #include "opencl/pocl.hpp"
@@ -371,6 +373,50 @@ TEST(OpenClRuntime, EstimatorReportsEventTimesOfTheKernelStages) {
   EXPECT_EQ(second.times.rasterize_us, 0.0);
   EXPECT_EQ(second.times.fuse_us, 0.0);
   EXPECT_GT(second.times.insight_us, 0.0);
+}
+
+}  // namespace
+}  // namespace freespace
+
+namespace freespace {
+namespace {
+
+constexpr const char* kFirstUseEnv = "FREESPACE_TEST_FIRST_OPENCL_USE";
+
+// Two estimators created at once as the process's first OpenCL use both find the device: PoCL
+// answers an enumeration with no device while another thread's first one initializes it, so
+// the runtime enumerates one thread at a time. The first use needs a fresh process: this test
+// binary again, running this case alone with kFirstUseEnv set, creates the two and exits 0 when
+// both were made.
+TEST(OpenClRuntime, TwoEstimatorsCreatedAtOnceAsTheFirstUseBothFindTheDevice) {
+  if (std::getenv(kFirstUseEnv) != nullptr) {
+    Config config;
+    config.backend.kind = BackendKind::kOpenCl;
+    std::string errors[2];
+    std::thread threads[2];
+    for (int k = 0; k < 2; ++k) {
+      threads[k] = std::thread([&, k] {
+        try {
+          Estimator estimator(config);
+        } catch (const std::exception& e) {
+          errors[k] = e.what();
+        }
+      });
+    }
+    for (std::thread& t : threads) t.join();
+    for (const std::string& e : errors) {
+      if (!e.empty()) std::fprintf(stderr, "estimator: %s\n", e.c_str());
+    }
+    std::fflush(stderr);
+    std::_Exit(errors[0].empty() && errors[1].empty() ? 0 : 1);
+  }
+  FREESPACE_DEVICE_OR_SKIP(found);
+  char self[4096] = {};
+  ASSERT_GT(::readlink("/proc/self/exe", self, sizeof self - 1), 0);
+  const std::string command =
+      std::string(kFirstUseEnv) + "=1 '" + self +
+      "' --gtest_filter=OpenClRuntime.TwoEstimatorsCreatedAtOnceAsTheFirstUse* >/dev/null";
+  for (int run = 0; run < 3; ++run) EXPECT_EQ(std::system(command.c_str()), 0) << "run " << run;
 }
 
 }  // namespace

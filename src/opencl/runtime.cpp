@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
 #include <sstream>
 #include <system_error>
 #include <vector>
@@ -194,6 +195,11 @@ void Check(cl_int code, const char* what) {
 
 void ListDevices(const BackendConfig& config, DeviceList* list,
                  std::vector<DeviceChoice>* handles) {
+  // One enumeration at a time: PoCL answers a second thread's clGetDeviceIDs with
+  // CL_DEVICE_NOT_FOUND while the first one initializes it, so two estimators created at once
+  // as the process's first OpenCL use would see no device.
+  static std::mutex enumeration;
+  const std::lock_guard<std::mutex> lock(enumeration);
   list->platform_filter = Filter(config.opencl_platform, kPlatformEnv, &list->platform_origin);
   list->device_filter = Filter(config.opencl_device, kDeviceEnv, &list->device_origin);
   list->platforms.clear();
