@@ -293,6 +293,35 @@ TEST(Io, NativeLogRoundTripAndErrors) {
   EXPECT_NE(issues[1].message.find("'x'"), std::string::npos);
 }
 
+// Numbers of any size are written whole: a huge but finite yaw (300 digits in %.9f, which the
+// estimator takes and wraps) and a point at the float's limits read back as written.
+TEST(Io, NativeLogWritesHugeNumbersWhole) {
+  const std::string path = ::testing::TempDir() + "/huge.fslog";
+  NativeLogWriter writer(path, SensorConfig{});
+  Scan scan = test::MakeScan(2.0, {1.0, 2.0, 1e300}, {0.0, 10.0}, {5.0, 1e38});
+  writer.Write(scan);
+  writer.Close();
+  auto reader = OpenLog(path);
+  Scan back;
+  const bool read = reader->Next(&back);
+  for (const LogIssue& issue : reader->TakeIssues()) ADD_FAILURE() << issue.ToString();
+  ASSERT_TRUE(read);
+  EXPECT_DOUBLE_EQ(back.pose.yaw, 1e300);
+  ASSERT_EQ(back.points.size(), 2u);
+  EXPECT_FLOAT_EQ(back.points[1].range_m, 1e38f);
+
+  // The CARMEN writer's poses likewise.
+  const std::string clf = ::testing::TempDir() + "/huge.clf";
+  RobotLaserWriter carmen(clf, SensorConfig{});
+  carmen.Write(scan);
+  carmen.Close();
+  auto carmen_reader = OpenLog(clf);
+  const bool carmen_read = carmen_reader->Next(&back);
+  for (const LogIssue& issue : carmen_reader->TakeIssues()) ADD_FAILURE() << issue.ToString();
+  ASSERT_TRUE(carmen_read);
+  EXPECT_DOUBLE_EQ(back.pose.yaw, 1e300);
+}
+
 TEST(Io, UnrecognisedFilesFailWithTheirName) {
   const std::string path = TempFile("e.txt", "hello world\n");
   try {

@@ -12,6 +12,7 @@
 //
 // One scan a line; '-' is a beam without echo; '#' starts a comment line.
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
@@ -289,6 +290,39 @@ std::string SweepField(const SensorConfig& s) {
 }
 }  // namespace
 
+namespace {
+// Appends printf-style text to `out`, however long the numbers make it (a huge but finite yaw
+// in %.9f is 300 digits).
+__attribute__((format(printf, 2, 3))) void AppendF(std::string* out, const char* format, ...) {
+  char buffer[128];
+  va_list args;
+  va_start(args, format);
+  va_list again;
+  va_copy(again, args);
+  const int n = std::vsnprintf(buffer, sizeof buffer, format, args);
+  va_end(args);
+  if (n >= 0 && std::size_t(n) < sizeof buffer) {
+    out->append(buffer, std::size_t(n));
+  } else if (n >= 0) {
+    const std::size_t at = out->size();
+    out->resize(at + std::size_t(n) + 1);
+    std::vsnprintf(&(*out)[at], std::size_t(n) + 1, format, again);
+    out->resize(at + std::size_t(n));
+  }
+  va_end(again);
+}
+
+// Appends " " and `v` with `decimals` decimals, or, where that would pass the readers' 63
+// characters a field (|v| >= 1e15), in 17 significant digits: every finite double reads back.
+void AppendNumber(std::string* out, double v, int decimals) {
+  if (std::abs(v) < 1e15 || !std::isfinite(v)) {
+    AppendF(out, " %.*f", decimals, v);
+  } else {
+    AppendF(out, " %.17g", v);
+  }
+}
+}  // namespace
+
 NativeLogWriter::NativeLogWriter(const std::string& path, const SensorConfig& s) : path_(path) {
   errno = 0;
   out_.open(path, std::ios::binary | std::ios::trunc);
@@ -319,14 +353,14 @@ NativeLogWriter::NativeLogWriter(const std::string& path, const std::vector<Sens
   sensors_ = int(sensors.size());
   out_ << "FREESPACE_LOG 2\n# SENSOR name layers min_angle_deg max_angle_deg resolution_deg "
           "min_range_m max_range_m mount_x_m mount_y_m mount_yaw_deg [sweep_s]\n";
-  char line[512];
   for (const SensorConfig& s : sensors) {
-    std::snprintf(line, sizeof line, "SENSOR %s %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g%s\n",
-                  s.name.c_str(), s.layers, s.min_angle_deg, s.max_angle_deg,
-                  s.angular_resolution_deg, s.min_range_m, s.max_range_m, s.mount_x_m, s.mount_y_m,
-                  s.mount_yaw_deg, SweepField(s).c_str());
+    std::string line;  // the name has no bound on its length
+    AppendF(&line, "SENSOR %s %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g%s\n", s.name.c_str(),
+            s.layers, s.min_angle_deg, s.max_angle_deg, s.angular_resolution_deg, s.min_range_m,
+            s.max_range_m, s.mount_x_m, s.mount_y_m, s.mount_yaw_deg, SweepField(s).c_str());
     out_ << line;
   }
+  char line[512];
   std::snprintf(line, sizeof line,
                 "# RIG reference_x_m reference_y_m footprint_length_m footprint_width_m\n"
                 "RIG %.9g %.9g %.9g %.9g\n",
@@ -340,28 +374,28 @@ NativeLogWriter::NativeLogWriter(const std::string& path, const std::vector<Sens
 void NativeLogWriter::Write(const Scan& scan) {
   std::string text;
   text.reserve(32 + scan.points.size() * 22);
-  char buffer[96];
   if (version_ == 2) {
     if (scan.sensor < 0 || scan.sensor >= sensors_) {
       throw std::invalid_argument("NativeLogWriter: scan of sensor " + std::to_string(scan.sensor) +
                                   " in a log of " + std::to_string(sensors_) + " sensors");
     }
-    std::snprintf(buffer, sizeof buffer, "SCAN %d %.6f %.6f %.6f %.9f %zu", scan.sensor,
-                  scan.timestamp_s, scan.pose.x, scan.pose.y, scan.pose.yaw, scan.points.size());
+    AppendF(&text, "SCAN %d", scan.sensor);
   } else {
-    std::snprintf(buffer, sizeof buffer, "SCAN %.6f %.6f %.6f %.9f %zu", scan.timestamp_s,
-                  scan.pose.x, scan.pose.y, scan.pose.yaw, scan.points.size());
+    text += "SCAN";
   }
-  text += buffer;
+  AppendNumber(&text, scan.timestamp_s, 6);
+  AppendNumber(&text, scan.pose.x, 6);
+  AppendNumber(&text, scan.pose.y, 6);
+  AppendNumber(&text, scan.pose.yaw, 9);
+  AppendF(&text, " %zu", scan.points.size());
   for (const ScanPoint& p : scan.points) {
-    const double deg = double(p.angle_rad) * 180.0 / M_PI;
+    AppendF(&text, " %u", unsigned(p.layer));
+    AppendNumber(&text, double(p.angle_rad) * 180.0 / M_PI, 4);
     if (p.echo) {
-      std::snprintf(buffer, sizeof buffer, " %u %.4f %.3f", unsigned(p.layer), deg,
-                    double(p.range_m));
+      AppendNumber(&text, double(p.range_m), 3);
     } else {
-      std::snprintf(buffer, sizeof buffer, " %u %.4f -", unsigned(p.layer), deg);
+      text += " -";
     }
-    text += buffer;
   }
   text += '\n';
   errno = 0;
@@ -398,7 +432,6 @@ void RobotLaserWriter::Write(const Scan& scan) {
   const double ly = scan.pose.y + s * sensor_.mount_x_m + c * sensor_.mount_y_m;
   const double lt = scan.pose.yaw + sensor_.mount_yaw_deg * io::kDegToRad;
   std::string text;
-  char buffer[160];
   for (int layer = 0; layer < sensor_.layers; ++layer) {
     ranges_.assign(bins, float(sensor_.max_range_m));
     for (const ScanPoint& p : scan.points) {
@@ -406,21 +439,25 @@ void RobotLaserWriter::Write(const Scan& scan) {
       const long b = std::lround((double(p.angle_rad) - start) / res);
       if (b >= 0 && b < bins) ranges_[b] = std::min(ranges_[b], p.range_m);
     }
-    std::snprintf(buffer, sizeof buffer, "ROBOTLASER1 0 %.9f %.9f %.9f %.3f 0.01 0 %d", start,
-                  (bins - 1) * res, res, sensor_.max_range_m, bins);
-    text = buffer;
-    for (const float r : ranges_) {
-      std::snprintf(buffer, sizeof buffer, " %.3f", double(r));
-      text += buffer;
+    text.clear();
+    AppendF(&text, "ROBOTLASER1 0 %.9f %.9f %.9f %.3f 0.01 0 %d", start, (bins - 1) * res, res,
+            sensor_.max_range_m, bins);
+    for (const float r : ranges_) AppendF(&text, " %.3f", double(r));
+    text += " 0";  // no remissions; the laser's pose, the robot's, five zeros, the times
+    for (const auto& [v, decimals] :
+         {std::pair{lx, 6}, std::pair{ly, 6}, std::pair{lt, 9}, std::pair{scan.pose.x, 6},
+          std::pair{scan.pose.y, 6}, std::pair{scan.pose.yaw, 9}}) {
+      AppendNumber(&text, v, decimals);
     }
-    std::snprintf(buffer, sizeof buffer,
-                  " 0 %.6f %.6f %.9f %.6f %.6f %.9f 0 0 0 0 0 %.6f freespace %.6f\n", lx, ly, lt,
-                  scan.pose.x, scan.pose.y, scan.pose.yaw, scan.timestamp_s, scan.timestamp_s);
-    text += buffer;
+    text += " 0 0 0 0 0";
+    AppendNumber(&text, scan.timestamp_s, 6);
+    text += " freespace";
+    AppendNumber(&text, scan.timestamp_s, 6);
+    text += '\n';
     errno = 0;
     out_ << text;
+    if (!out_) throw StreamError(path_, "write failed");  // errno of this layer's write
   }
-  if (!out_) throw StreamError(path_, "write failed");
 }
 
 void RobotLaserWriter::Close() {
