@@ -392,6 +392,10 @@ TEST(ConfigDocs, RangeErrorsComeFromTheTable) {
                       "scan"),
             std::string::npos);
   EXPECT_EQ(ErrorOf("sensor:\n  angular_resolution_deg: 0.01\n"), "");
+  // A sensor's name is one printable word, the one sensor's as a rig's.
+  EXPECT_NE(ErrorOf("sensor:\n  name: a b\n").find("sensor.name: must be one word"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sensor:\n  name: ''\n").find("sensor.name is empty"), std::string::npos);
   // A reach past any integer (the config fuzzer's find: the message cast it to int) is told as
   // it is.
   EXPECT_NE(ErrorOf("sensor:\n  max_range_m: 1e136\n").find("the scan reaches 5e+136 cells"),

@@ -74,7 +74,7 @@ enum class AlignmentKind {
 // the circle and calls "the vehicle".
 struct AlignmentConfig {
   AlignmentKind kind = AlignmentKind::kCircle;
-  int speed_window = 10;        // n of eq. (1): moving average of the last n speeds; >= 1
+  int speed_window = 10;        // n of eq. (1): moving average of the last n speeds; 1 .. 1000
   double gain_s = 0.5;          // circle radius in metres per m/s of filtered speed; >= 0
   double margin_m = 2.0;        // the vehicle stays at least this far inside the map; >= 0
   double max_speed_mps = 70.0;  // a pose moving faster than this (plus slack) is a jump; > 0
@@ -120,7 +120,7 @@ struct PolygonConfig {
   int max_vertices = 32;   // N; 3 .. 4096
   double epsilon_m = 0.2;  // tolerance; >= 0
   // Safety margin of the inside polygon (not in the paper; 0 = none): a free cell is kept out
-  // of the polygon when a cell the map holds occupied (log-odds above 0) lies within
+  // of the polygon when a cell the map holds occupied or unknown (log-odds >= 0) lies within
   // margin_cells of it (Chebyshev) and beyond it as seen from the sensor, within
   // margin_cone_deg of the line of sight through it (180: all around). The sensor's own cell
   // stays free. 0 .. 32 cells, needs shape inside; cone (0, 180] degrees.

@@ -294,6 +294,16 @@ std::string RigSensorText(std::string text, const std::string& label) {
   return text;
 }
 
+// A sensor's name: one word of printable characters (it names the sensor in messages and logs).
+void CheckSensorName(const std::string& label, const std::string& name) {
+  for (const char ch : name) {
+    if (!std::isgraph(static_cast<unsigned char>(ch))) {
+      throw ConfigError("config: " + label +
+                        ".name: must be one word of printable characters (no spaces)");
+    }
+  }
+}
+
 // Each sensor of a rig as the single sensor would be checked, messages naming it; names
 // distinct and not empty.
 void ValidateRig(const Config& c) {
@@ -311,12 +321,7 @@ void ValidateRig(const Config& c) {
     const std::string label =
         "sensors[" + (s.name.empty() ? std::to_string(i) : io::Excerpt(s.name, 40)) + "]";
     if (s.name.empty()) throw ConfigError("config: " + label + ".name is empty: name each sensor");
-    for (const char ch : s.name) {
-      if (!std::isgraph(static_cast<unsigned char>(ch))) {
-        throw ConfigError("config: " + label +
-                          ".name: must be one word of printable characters (no spaces)");
-      }
-    }
+    CheckSensorName(label, s.name);
     if (!names.insert(s.name).second) {
       throw ConfigError("config: " + label + ".name = \"" + s.name +
                         "\": two sensors of the rig have this name");
@@ -335,6 +340,10 @@ void ValidateRig(const Config& c) {
 }  // namespace
 
 void Config::Validate() const {
+  if (!is_rig()) {
+    if (sensor.name.empty()) throw ConfigError("config: sensor.name is empty: name the sensor");
+    CheckSensorName("sensor", sensor.name);
+  }
   if (is_rig()) {
     Config base = *this;
     base.sensor = SensorConfig{};
