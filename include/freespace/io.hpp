@@ -133,6 +133,8 @@ class NativeLogWriter {
   // std::invalid_argument for no sensor.
   NativeLogWriter(const std::string& path, const std::vector<SensorConfig>& sensors,
                   const RigConfig& rig = {});
+  // Throws std::invalid_argument for a scan of a sensor the log does not hold (Scan::sensor
+  // outside 0 .. its sensors - 1).
   void Write(const Scan& scan);
   void Close();
 

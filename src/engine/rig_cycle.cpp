@@ -328,9 +328,10 @@ const Result& Estimator::Impl::ProcessCycle(const Scan* scans, int count) {
     return r;
   };
   if (!config_.is_rig()) {
-    Reject(RejectReason::kBadCycle, count == 0 ? "an empty cycle: no scan to process"
-                                               : "a cycle of several scans needs a rig (a "
-                                                 "'sensors' list in the config)");
+    Reject(RejectReason::kBadCycle, count <= 0 || scans == nullptr
+                                        ? "an empty cycle: no scan to process"
+                                        : "a cycle of several scans needs a rig (a "
+                                          "'sensors' list in the config)");
     return finish();
   }
   if (!CheckCycle(scans, count)) return finish();

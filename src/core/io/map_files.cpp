@@ -23,7 +23,7 @@ void CheckView(const MapView& map, const char* where) {
   if (map.width <= 0 || map.height <= 0 || map.log_odds == nullptr) {
     throw std::invalid_argument(std::string(where) + ": empty map view (" +
                                 std::to_string(map.width) + " x " + std::to_string(map.height) +
-                                ")");
+                                (map.log_odds == nullptr ? ", no log-odds" : "") + ")");
   }
 }
 

@@ -374,11 +374,13 @@ NativeLogWriter::NativeLogWriter(const std::string& path, const std::vector<Sens
 void NativeLogWriter::Write(const Scan& scan) {
   std::string text;
   text.reserve(32 + scan.points.size() * 22);
+  // A scan of a sensor the log does not hold (in a log of one: any but 0) would be written as
+  // another's.
+  if (scan.sensor < 0 || scan.sensor >= sensors_) {
+    throw std::invalid_argument("NativeLogWriter: scan of sensor " + std::to_string(scan.sensor) +
+                                " in a log of " + std::to_string(sensors_) + " sensor(s)");
+  }
   if (version_ == 2) {
-    if (scan.sensor < 0 || scan.sensor >= sensors_) {
-      throw std::invalid_argument("NativeLogWriter: scan of sensor " + std::to_string(scan.sensor) +
-                                  " in a log of " + std::to_string(sensors_) + " sensors");
-    }
     AppendF(&text, "SCAN %d", scan.sensor);
   } else {
     text += "SCAN";
