@@ -407,7 +407,7 @@ void BagReader::TakeMount(const std::string& base_frame, const std::string& lase
     sensor->mount_yaw_deg = mount.yaw * 180.0 / M_PI;
   } else {
     Note(0, "no /tf_static transform from " + base_frame + " to the scan frame " + laser +
-                  ": the sensor mount is the config's (zero without a sensor section)");
+                ": the sensor mount is the config's (zero without a sensor section)");
   }
 }
 

@@ -86,6 +86,14 @@ TEST(Config, AFileThatIsADirectoryOrMissingIsAConfigError) {
     EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
   }
   EXPECT_THROW(Config::FromYamlFile(dir + "/no-such-config.yaml"), ConfigError);
+  // A read that fails (Linux's /proc/self/mem opens, and reading its first page gives EIO): an
+  // error, not the text read so far taken as the config.
+  try {
+    Config::FromYamlFile("/proc/self/mem");
+    ADD_FAILURE() << "a failed read made a config";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Config, MissingFieldsKeepDefaults) {
@@ -393,8 +401,9 @@ TEST(ConfigDocs, RangeErrorsComeFromTheTable) {
             std::string::npos);
   EXPECT_EQ(ErrorOf("sensor:\n  angular_resolution_deg: 0.01\n"), "");
   // A sensor's name is one printable word, the one sensor's as a rig's.
-  EXPECT_NE(ErrorOf("sensor:\n  name: a b\n").find("sensor.name: must be one word"),
+  EXPECT_NE(ErrorOf("sensor:\n  name: a b\n").find("sensor.name = \"a b\": must be one word"),
             std::string::npos);
+  EXPECT_EQ(ErrorOf("sensor:\n  name: vorn_\xc3\xa4\n"), "");  // UTF-8 letters are taken
   EXPECT_NE(ErrorOf("sensor:\n  name: ''\n").find("sensor.name is empty"), std::string::npos);
   // A reach past any integer (the config fuzzer's find: the message cast it to int) is told as
   // it is.

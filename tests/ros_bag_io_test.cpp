@@ -242,8 +242,8 @@ TEST(RosBagIo, OutBagHoldsAGridAndAPolygonPerScan) {
   const std::string dir = TempPath("cli");
   std::filesystem::remove_all(dir);
   const std::string command = std::string(FREESPACE_CLI_PATH) + " run --quiet --log " + in +
-                              " --out " + dir + " --out-bag " + dir + "/bags/new/out.bag 2>" +
-                              dir + ".err";
+                              " --out " + dir + " --out-bag " + dir + "/bags/new/out.bag 2>" + dir +
+                              ".err";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   std::ifstream lines(dir + "/polygons.jsonl");
   int n = 0;

@@ -73,7 +73,7 @@ struct Result {
   std::string message;            // why a scan was rejected or not used, and what was odd about
                                   // it (clock jitter, a stall), joined by "; "; else empty
   bool map_reset = false;         // the map was (re)started at this scan (first scan, or a jump)
-  bool timestamp_jitter = false;  // timestamp not after the previous scan's, but within
+  bool timestamp_jitter = false;  // timestamp not after the latest accepted one, but within
                                   // alignment.time_jitter_s: used without a speed sample
   bool clock_stalled = false;     // the timestamps have stopped advancing (3 scans or more with
                                   // one time): used without a jump test or a speed sample

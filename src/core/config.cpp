@@ -16,6 +16,7 @@
 
 #include "config_table.hpp"
 #include "core/config_fields.hpp"
+#include "core/preprocess.hpp"
 #include "freespace/errors.hpp"
 #include "io/text.hpp"
 
@@ -31,11 +32,9 @@ double ScanReachCells(const Config& c) {
          std::hypot(c.sensor.mount_x_m, c.sensor.mount_y_m) / c.map.resolution_m;
 }
 
-// The beams of a scan, which the preprocessing holds room for.
-double ScanBeams(const SensorConfig& s) {
-  return double(s.layers) *
-         (std::floor((s.max_angle_deg - s.min_angle_deg) / s.angular_resolution_deg + 0.5) + 1.0);
-}
+// The beams of a scan, which the preprocessing holds room for, and their bound.
+double ScanBeams(const SensorConfig& s) { return double(s.layers) * SensorBins(s); }
+constexpr double kMaxScanBeams = 1048576.0;  // 2^20
 
 double HalfSmallerSideCells(const Config& c) {
   return 0.5 * std::min(c.map.width_cells, c.map.height_cells);
@@ -68,7 +67,7 @@ const Relation kSensorRelations[] = {
     {"sensor.angular_resolution_deg",
      "must leave at most 1048576 beams a scan: layers x ((max_angle_deg - min_angle_deg) / "
      "angular_resolution_deg + 1)",
-     [](const Config& c) { return ScanBeams(c.sensor) <= 1048576.0; },
+     [](const Config& c) { return ScanBeams(c.sensor) <= kMaxScanBeams; },
      [](const Config& c) { return " (" + Format(ScanBeams(c.sensor)) + ")"; }},
 };
 
@@ -294,12 +293,14 @@ std::string RigSensorText(std::string text, const std::string& label) {
   return text;
 }
 
-// A sensor's name: one word of printable characters (it names the sensor in messages and logs).
+// A sensor's name: one word (it names the sensor in messages and in a log's SENSOR line): no
+// space and no control character; bytes of UTF-8 letters are taken.
 void CheckSensorName(const std::string& label, const std::string& name) {
   for (const char ch : name) {
-    if (!std::isgraph(static_cast<unsigned char>(ch))) {
-      throw ConfigError("config: " + label +
-                        ".name: must be one word of printable characters (no spaces)");
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c <= 0x20 || c == 0x7f) {
+      throw ConfigError("config: " + label + ".name = \"" + io::Excerpt(name, 40) +
+                        "\": must be one word, without spaces or control characters");
     }
   }
 }

@@ -332,12 +332,17 @@ Config Config::FromYamlFile(const std::string& path) {
   if (std::filesystem::is_directory(path, error)) {
     throw ConfigError("config: '" + path + "' is a directory, not a config file");
   }
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError("config: cannot open '" + path + "'");
-  std::stringstream text;
-  text << in.rdbuf();
+  // istream::read marks a failed read bad (operator<< of the rdbuf would swallow it).
+  std::string text;
+  char block[4096];
+  while (in.read(block, sizeof block) || in.gcount() > 0) {
+    text.append(block, std::size_t(in.gcount()));
+    if (!in) break;
+  }
   if (in.bad()) throw ConfigError("config: cannot read '" + path + "'");
-  return FromYaml(text.str(), path);
+  return FromYaml(text, path);
 }
 
 namespace {

@@ -11,10 +11,11 @@ namespace {
 constexpr double kDegToRad = M_PI / 180.0;
 constexpr float kNone = std::numeric_limits<float>::infinity();
 
-int BinCount(const SensorConfig& s) {
-  return int(std::floor((s.max_angle_deg - s.min_angle_deg) / s.angular_resolution_deg + 0.5)) + 1;
-}
 }  // namespace
+
+double SensorBins(const SensorConfig& s) {
+  return std::floor((s.max_angle_deg - s.min_angle_deg) / s.angular_resolution_deg + 0.5) + 1.0;
+}
 
 Preprocessor::Preprocessor(const Config& config)
     : sensor_(config.sensor),
@@ -23,8 +24,8 @@ Preprocessor::Preprocessor(const Config& config)
       face_rule_(FaceRule::Of(config)),
       min_angle_(config.sensor.min_angle_deg * kDegToRad),
       bin_width_(config.sensor.angular_resolution_deg * kDegToRad),
-      bins_(BinCount(config.sensor)),
-      clutter_(config.clutter, BinCount(config.sensor),
+      bins_(int(SensorBins(config.sensor))),
+      clutter_(config.clutter, int(SensorBins(config.sensor)),
                config.sensor.angular_resolution_deg * kDegToRad, config.backend.threads) {
   // The face layer in four parts in parallel when the backend may take every core, else in one.
   face_parts_.resize(config.backend.threads == 0 ? 4 : 1);

@@ -181,11 +181,12 @@ bool Estimator::Impl::Align(const Scan& scan) {
   const AlignStep step = circle_.Align(scan.timestamp_s, r.sensor_pose);
   if (!step.accepted) {
     if (step.reason == RejectReason::kTimestampNotIncreasing) {
-      std::snprintf(text, sizeof text,
-                    "timestamp %.6f s is %.3f s before the previous scan's %.6f s (more than "
-                    "alignment.time_jitter_s %.3f s)",
-                    scan.timestamp_s, previous_t - scan.timestamp_s, previous_t,
-                    config_.alignment.time_jitter_s);
+      std::snprintf(
+          text, sizeof text,
+          "timestamp %.6f s is %.3f s before the latest accepted scan's %.6f s (more than "
+          "alignment.time_jitter_s %.3f s)",
+          scan.timestamp_s, previous_t - scan.timestamp_s, previous_t,
+          config_.alignment.time_jitter_s);
     } else if (step.reason == RejectReason::kPoseOutOfRange) {
       std::snprintf(text, sizeof text,
                     "sensor pose (%.6g, %.6g) m moves the map by more cells than an integer "
@@ -205,10 +206,11 @@ bool Estimator::Impl::Align(const Scan& scan) {
   }
   if (step.timestamp_jitter) {
     r.timestamp_jitter = true;
-    std::snprintf(text, sizeof text,
-                  "timestamp %.6f s is not after the previous scan's %.6f s: clock jitter, used "
-                  "without a speed sample",
-                  scan.timestamp_s, previous_t);
+    std::snprintf(
+        text, sizeof text,
+        "timestamp %.6f s is not after the latest accepted scan's %.6f s: clock jitter, used "
+        "without a speed sample",
+        scan.timestamp_s, previous_t);
     AddMessage(&r, text);
   }
   r.clock_stalled = step.clock_stalled;

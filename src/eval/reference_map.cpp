@@ -107,7 +107,8 @@ void ReferenceMap::Update(const Scan& scan, const Result& r) {
     std::copy(row_.begin() + gc0, row_.begin() + gc0 + w, update_.begin() + std::size_t(y) * w);
   }
   // The cells the outline touches, when sensor_model.free_on_outline is false (window cells).
-  if (job.clear_outline) host::ClearOutline(job.vertices, job.vertex_count, w, 0, h, update_.data());
+  if (job.clear_outline)
+    host::ClearOutline(job.vertices, job.vertex_count, w, 0, h, update_.data());
   for (int i = 0; i < job.occupied_count; ++i) update_[job.occupied[i]] = kUpdateOccupied;
   // Fusion, as stage 2.
   for (int y = 0; y < h; ++y) {

@@ -57,7 +57,7 @@ class HostBackend final : public Backend {
 
  private:
   std::size_t cells() const { return std::size_t(params_.width) * params_.height; }
-  int words() const { return (params_.width + 63) / 64; }   // bitset words per row
+  int words() const { return (params_.width + 63) / 64; }  // bitset words per row
 
   ThreadArena arena_;
   std::vector<LogOdds> map_;

@@ -57,7 +57,7 @@ class CircleAligner {
   double resolution() const { return resolution_; }
   int consecutive_jumps() const { return jumps_; }
   double last_timestamp() const { return last_t_; }  // the latest accepted scan's
-  bool started() const { return started_; }            // a scan has been accepted
+  bool started() const { return started_; }          // a scan has been accepted
 
  private:
   void Start(double t, const Pose2D& sensor, AlignStep* step);

@@ -26,6 +26,11 @@ struct Beam {
   bool is_virtual = false;
 };
 
+// The beams of one layer a scan of `sensor` holds: the aperture in steps of the angular
+// resolution, both ends included; a whole number, as a double so that any config's count is one
+// (Config::Validate bounds it before the preprocessing takes it as an int).
+double SensorBins(const SensorConfig& sensor);
+
 class Preprocessor {
  public:
   explicit Preprocessor(const Config& config);
