@@ -65,6 +65,13 @@ struct StageTimes {
   double total_us = 0;
 };
 
+// One Process() or ProcessCycle() call's result. A rejected call (status kRejected) changes
+// nothing; of its result, scan_index, timestamp_s, status, reject_reason, message, pose, stats
+// (what the preprocessing counted, zero when the input check rejected it) and the empty polygons
+// (polygon_status kNone) are the call's own; sensor_pose and the cycle's sensor poses are the
+// call's only as far as it got before the rejection (read them as undefined); the map's fields
+// (vehicle_cells, yaw, map_yaw, vehicle_cell, origin, the speed and the circle) are the last
+// accepted call's.
 struct Result {
   std::uint64_t scan_index = 0;  // 0-based count of Process() calls
   double timestamp_s = 0.0;
