@@ -111,26 +111,36 @@ std::vector<std::uint8_t> BruteForce(const std::vector<EchoPoint>& p, const Clut
   return keep;
 }
 
+// 25 blobs of up to max_size echoes each (Gaussian, `sigma` m), their centres on a coarse polar
+// grid (shifted by 3 m on odd trials), so blobs stay far apart; shuffled.
+std::vector<EchoPoint> Blobs(std::mt19937* rng, int trial, int max_size, double sigma) {
+  std::vector<EchoPoint> points;
+  for (int blob = 0; blob < 25; ++blob) {
+    const double r = 4.0 + 6.0 * (blob % 5) + 3.0 * (trial % 2);
+    const double a = (-60.0 + 25.0 * (blob / 5)) * M_PI / 180.0;
+    const int size = int((*rng)() % unsigned(max_size + 1));
+    for (int k = 0; k < size; ++k) {
+      std::normal_distribution<double> jitter(0.0, sigma);
+      points.push_back(At(r * std::cos(a) + jitter(*rng), r * std::sin(a) + jitter(*rng)));
+    }
+  }
+  std::shuffle(points.begin(), points.end(), *rng);
+  return points;
+}
+
+std::vector<std::uint8_t> Kept(const std::vector<EchoPoint>& points, const ClutterConfig& c) {
+  ClutterFilter filter(c, kBins, kBin);
+  std::vector<std::uint8_t> keep;
+  filter.Run(points, &keep);
+  return keep;
+}
+
 TEST(Clutter, MatchesAllPairsDbscanOnRandomBlobs) {
   std::mt19937 rng(29);
   const ClutterConfig c = Params(0.4, 0.01);
   for (int trial = 0; trial < 30; ++trial) {
-    std::vector<EchoPoint> points;
-    for (int blob = 0; blob < 25; ++blob) {
-      // Blob centres on a coarse polar grid, so blobs stay far apart.
-      const double r = 4.0 + 6.0 * (blob % 5) + 3.0 * (trial % 2);
-      const double a = (-60.0 + 25.0 * (blob / 5)) * M_PI / 180.0;
-      const int size = int(rng() % 9);
-      for (int k = 0; k < size; ++k) {
-        std::normal_distribution<double> jitter(0.0, 0.15);
-        points.push_back(At(r * std::cos(a) + jitter(rng), r * std::sin(a) + jitter(rng)));
-      }
-    }
-    std::shuffle(points.begin(), points.end(), rng);
-    ClutterFilter filter(c, kBins, kBin);
-    std::vector<std::uint8_t> keep;
-    filter.Run(points, &keep);
-    EXPECT_EQ(keep, BruteForce(points, c)) << "trial " << trial;
+    const std::vector<EchoPoint> points = Blobs(&rng, trial, 8, 0.15);
+    EXPECT_EQ(Kept(points, c), BruteForce(points, c)) << "trial " << trial;
   }
 }
 
@@ -145,20 +155,8 @@ TEST(Clutter, MatchesAllPairsDbscanWithLargeMinimums) {
     c.min_points = min_points;
     c.min_cluster_size = min_size;
     for (int trial = 0; trial < 8; ++trial) {
-      std::vector<EchoPoint> points;
-      for (int blob = 0; blob < 25; ++blob) {
-        const double r = 4.0 + 6.0 * (blob % 5) + 3.0 * (trial % 2);
-        const double a = (-60.0 + 25.0 * (blob / 5)) * M_PI / 180.0;
-        const int size = int(rng() % 61);
-        std::normal_distribution<double> jitter(0.0, 0.12);
-        for (int k = 0; k < size; ++k) {
-          points.push_back(At(r * std::cos(a) + jitter(rng), r * std::sin(a) + jitter(rng)));
-        }
-      }
-      std::shuffle(points.begin(), points.end(), rng);
-      ClutterFilter filter(c, kBins, kBin);
-      std::vector<std::uint8_t> keep;
-      filter.Run(points, &keep);
+      const std::vector<EchoPoint> points = Blobs(&rng, trial, 60, 0.12);
+      const std::vector<std::uint8_t> keep = Kept(points, c);
       const std::vector<std::uint8_t> expected = BruteForce(points, c);
       EXPECT_EQ(keep, expected) << "min_points " << min_points << ", trial " << trial;
       EXPECT_GT(std::count(expected.begin(), expected.end(), 1), 0);
