@@ -231,6 +231,8 @@ TEST(InsidePolygon, CoversMaskCellsOnlyOnRandomMasks) {
     }
     if (!in.built) {
       EXPECT_TRUE(in.polygon.empty()) << where;
+      // Collapsed: the mask held space around the sensor (a ring), but no N-gon in it.
+      if (in.builder.collapsed()) EXPECT_GE(in.builder.ring().size(), 3u) << where;
       continue;
     }
     ASSERT_GE(in.polygon.size(), 3u) << where;
@@ -243,6 +245,24 @@ TEST(InsidePolygon, CoversMaskCellsOnlyOnRandomMasks) {
     ++checked;
   }
   EXPECT_GT(checked, 200);
+}
+
+// The one cell the mask keeps whatever it holds is the cell the sensor is in: a sensor a hair
+// below a cell edge (closer to the next cell than 1/512 of a cell) does not lend its place to
+// that next cell, which here holds an obstacle.
+TEST(InsidePolygon, TheSensorsOwnCellIsTheOneItIsIn) {
+  const int width = 20, height = 20;
+  for (const double below : {1e-3, 1e-4, 1e-9}) {
+    const Vec2 at(10.0 - below, 7.5);
+    std::vector<std::uint8_t> mask(std::size_t(width) * height, 1);
+    mask[std::size_t(7) * width + 10] = 0;  // the cell right of the sensor's
+    const Inside in(mask, width, height, at, 32, 0.0);
+    EXPECT_EQ(in.sensor.cell.col, 9) << below;
+    EXPECT_EQ(in.sensor.cell.row, 7) << below;
+    EXPECT_LE(in.at().x(), at.x()) << below;
+    ASSERT_TRUE(in.built) << below;
+    EXPECT_LE(AreaOnNotFree(in.polygon, mask, width, height), 1e-6) << below;
+  }
 }
 
 TEST(InsidePolygon, PartsInParallelGiveTheSamePolygon) {

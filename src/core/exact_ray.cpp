@@ -2,14 +2,21 @@
 #include "core/exact_ray.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace freespace {
 
+// Rounded down, not to the nearest: the fixed-point sensor stays in the cell the sensor is in
+// (Result::vehicle_cell), the one cell the polygon mask keeps whatever the map holds there.
 SensorCell MakeSensorCell(const Vec2& cells, int width, int height) {
+  const auto fixed = [](double v, int cells_across) {
+    return std::int32_t(
+        std::floor(std::clamp(v * kFixedOne, 0.0, cells_across * double(kFixedOne) - 1.0)));
+  };
   SensorCell s;
-  s.x = std::clamp(ToFixed(cells.x()), 0, width * kFixedOne - 1);
-  s.y = std::clamp(ToFixed(cells.y()), 0, height * kFixedOne - 1);
+  s.x = fixed(cells.x(), width);
+  s.y = fixed(cells.y(), height);
   s.cell = {FixedFloorCell(s.y), FixedFloorCell(s.x)};
   return s;
 }

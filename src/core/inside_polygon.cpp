@@ -359,6 +359,7 @@ bool InsidePolygonBuilder::Build(const MaskView& mask, const SensorCell& s,
                                  double* error) {
   polygon->clear();
   *error = 0.0;
+  collapsed_ = false;
   const int pairs = int(labels_.size());  // one ray per label kept, each with the next
   end_.resize(labels_.size());
   const Vec2 sensor(double(s.x) / kFixedOne, double(s.y) / kFixedOne);
@@ -396,7 +397,8 @@ bool InsidePolygonBuilder::Build(const MaskView& mask, const SensorCell& s,
     polygon->push_back(sensor + scale_[std::size_t(k)] *
                                     (ring_[std::size_t(kept_[std::size_t(k)])] - sensor));
   }
-  return Distinct(polygon);
+  collapsed_ = !Distinct(polygon);
+  return !collapsed_;
 }
 
 }  // namespace freespace

@@ -106,6 +106,7 @@ class ConservativePolygon final : public PolygonExtractor {
     mask_.words = words_;
     return builder_.Build(mask_, sensor_, stops_, polygon, error);
   }
+  bool too_few_vertices() const override { return builder_.collapsed(); }
 
  private:
   int width_, height_, words_;

@@ -29,6 +29,9 @@ class PolygonExtractor {
   // nothing around the sensor is free. `error`: the simplification error in cells.
   virtual bool Extract(const std::vector<CellIndex>& edges, const Vec2& sensor,
                        std::vector<Vec2>* polygon, double* error) = 0;
+  // The last Extract() returned false though space around the sensor is free: no polygon of
+  // polygon.max_vertices vertices fits in it.
+  virtual bool too_few_vertices() const { return false; }
 };
 
 // For `backend`, which the extractor is then given on every call.

@@ -22,7 +22,8 @@ struct SensorCell {
   CellIndex cell;
 };
 
-// The sensor at `cells` (map cells), rounded to fixed point and kept inside a width x height map.
+// The sensor at `cells` (map cells), rounded down to fixed point (so that its cell is the floor
+// of `cells`) and kept inside a width x height map.
 SensorCell MakeSensorCell(const Vec2& cells, int width, int height);
 
 // How an exact ray ended.

@@ -42,10 +42,14 @@ class InsidePolygonBuilder {
   // `stops`: the exact rays' stops on `mask`, one per border label (BorderCell order) from the
   // sensor `s`. Writes the polygon (counter-clockwise, map cells) into `polygon` and returns
   // true; or leaves `polygon` empty and returns false when nothing around the sensor is in the
-  // mask (every ray ends on the edge of the sensor's own cell). `error`: the simplification
-  // error in cells, as PolygonSimplifier::Simplify returns it.
+  // mask (every ray ends on the edge of the sensor's own cell), or when the simplified polygon,
+  // pulled inside the ring, has fewer than three distinct vertices left (collapsed(): a very
+  // small max_vertices). `error`: the simplification error in cells, as
+  // PolygonSimplifier::Simplify returns it.
   bool Build(const MaskView& mask, const SensorCell& s, const std::vector<RayStop>& stops,
              std::vector<Vec2>* polygon, double* error);
+  // The last Build() found space in the mask but no polygon of max_vertices vertices in it.
+  bool collapsed() const { return collapsed_; }
 
   // The ring of the last Build(): the rays' ends, pulled in or gone round where a cell outside
   // the mask pokes between two of them, straight runs compacted: the union of its fan
@@ -111,6 +115,7 @@ class InsidePolygonBuilder {
   std::vector<Vec2> corner_at_;          // and where
   std::vector<double> split_in_at_, split_out_at_;  // (2): the corner's scales
   int parts_;
+  bool collapsed_ = false;
   std::vector<char> part_beyond_;  // per part: RayEnds() found a ray beyond the sensor's cell
   std::vector<Vec2> ring_;
   std::vector<int> kept_;
