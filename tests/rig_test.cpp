@@ -91,33 +91,8 @@ TEST(RigConfig, ErrorsNameTheSensorAndTheField) {
             std::string::npos);
 }
 
-// A wall of echoes across the sensor's view `range` metres ahead, on every layer.
-Scan Wall(double t, const Pose2D& pose, int sensor, double range) {
-  Scan scan;
-  scan.timestamp_s = t;
-  scan.pose = pose;
-  scan.sensor = sensor;
-  for (int layer = 0; layer < 4; ++layer) {
-    for (double a = -30.0; a <= 30.0; a += 0.25) {
-      ScanPoint p;
-      p.layer = std::uint8_t(layer);
-      p.angle_rad = float(a * M_PI / 180.0);
-      p.range_m = float(range / std::cos(a * M_PI / 180.0));
-      scan.points.push_back(p);
-    }
-  }
-  return scan;
-}
-
-Config TwoAlike() {
-  Config c;
-  SensorConfig s;
-  s.name = "a";
-  c.sensors.push_back(s);
-  s.name = "b";
-  c.sensors.push_back(s);
-  return c;
-}
+using test::TwoAlike;
+using test::Wall;
 
 // Two sensors at one mount seeing the same scene: each scan is fused once, so every cell the
 // cycle updates holds twice what one scan gives it on a fresh map (the paper's rule per scan).

@@ -85,9 +85,10 @@ struct Result {
   bool clock_stalled = false;     // the timestamps have stopped advancing (3 scans or more with
                                   // one time): used without a jump test or a speed sample
   bool stall_detected = false;    // this scan found the stall; `message` says so
-  bool sweep_corrected = false;   // sensor.sweep_s set and every scan of this call placed from
-                                  // the sensor's motion during its sweep (not the first scan
-                                  // of a map, nor one more than 0.5 s after its sensor's last)
+  bool sweep_corrected = false;   // sensor.sweep_s set and every scan of this call with a usable
+                                  // echo (one at least) placed from the sensor's motion during
+                                  // its sweep (not the first scan of a map, nor one more than
+                                  // 0.5 s after its sensor's last)
 
   // alignment.scan_match: the map is kept in the input poses' frame corrected by this pose (a
   // point p of the input frame lies at pose_correction composed with p in the map's frame), as
@@ -132,6 +133,10 @@ struct Result {
   // in the order fused (the rig's order). One entry for a single sensor.
   std::vector<int> cycle_sensors;
   std::vector<Pose2D> cycle_sensor_poses;
+  // A rig's accepted cycle: the rig's sensors that added nothing to the map, in the rig's order:
+  // no scan of theirs in the cycle, or a scan without a usable echo (empty, or every beam without
+  // echo); `message` names them. Empty for a single sensor, whose status says so.
+  std::vector<int> cycle_silent_sensors;
 };
 
 // A read-only view of the map as of the last Process(). Pointers stay valid until the next

@@ -116,6 +116,17 @@ void BindScanAndResult(py::module_& m) {
       .def_property_readonly("message", [](const PyResult& p) { return p.r.message; })
       .def_property_readonly("map_reset", [](const PyResult& p) { return p.r.map_reset; })
       .def_property_readonly(
+          "timestamp_jitter", [](const PyResult& p) { return p.r.timestamp_jitter; },
+          "a timestamp at or before the latest accepted one, within alignment.time_jitter_s: "
+          "used, and said in message")
+      .def_property_readonly(
+          "clock_stalled", [](const PyResult& p) { return p.r.clock_stalled; },
+          "the timestamps have stopped advancing: used without a jump test or a speed sample")
+      .def_property_readonly(
+          "cycle_silent_sensors", [](const PyResult& p) { return p.r.cycle_silent_sensors; },
+          "a rig's cycle: the sensors that added nothing (no scan, or no usable echo); "
+          "message names them")
+      .def_property_readonly(
           "sweep_corrected", [](const PyResult& p) { return p.r.sweep_corrected; },
           "every scan placed from the sensor's motion during its sweep (sensor.sweep_s)")
       .def_property_readonly("pose", [](const PyResult& p) { return PoseTuple(p.r.pose); })

@@ -31,6 +31,7 @@ CircleAligner::CircleAligner(const Config& config)
 void CircleAligner::Reset() {
   started_ = false;
   jumps_ = 0;
+  behind_ = 0;
 }
 
 Vec2 CircleAligner::origin_world() const {
@@ -49,6 +50,7 @@ void CircleAligner::Start(double t, const Pose2D& sensor, AlignStep* step) {
   speed_count_ = speed_next_ = 0;
   jumps_ = 0;
   repeats_ = 0;
+  behind_ = 0;
   step->accepted = true;
   step->reset = true;
   step->local = centre_;
@@ -71,9 +73,20 @@ AlignStep CircleAligner::Align(double t, const Pose2D& sensor) {
   const bool stalled = repeats_ >= kStalledClockScans - 1;
   const bool jitter = !(dt > 0.0) && !stalled;
   if (!(dt > 0.0) && !(-dt <= config_.time_jitter_s)) {
-    step.reason = RejectReason::kTimestampNotIncreasing;
+    // A clock that stays behind (one scan stamped far ahead was accepted, or the log joins two
+    // drives): after reset_after_jumps such scans in a row, each later than the one before, the
+    // map restarts at the last, as after repeated pose jumps.
+    behind_ = behind_ > 0 && t > behind_t_ ? behind_ + 1 : 1;
+    behind_t_ = t;
+    if (behind_ < config_.reset_after_jumps) {
+      step.reason = RejectReason::kTimestampNotIncreasing;
+      return step;
+    }
+    Start(t, sensor, &step);
+    step.clock_restart = true;
     return step;
   }
+  behind_ = 0;
   // The pose in cells from the anchor must stay below 2^52, where every integer is a double:
   // the origin (within a map of it) then stays exact and the casts below defined. Beyond (a
   // pose far away at a tiny resolution, an overflow to infinity) the scan is rejected before

@@ -3,7 +3,10 @@
 // line. Private to the core library.
 #pragma once
 
+#include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <map>
 #include <set>
@@ -72,10 +75,14 @@ struct Spec {
 };
 
 inline std::string Format(int v) { return std::to_string(v); }
+// Six significant digits where they read back as v, else the shortest text that does: a
+// refused 180.0000001 is not shown as 180.
 inline std::string Format(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  if (std::strtod(text, nullptr) == v || v != v) return text;
+  const std::to_chars_result r = std::to_chars(text, text + sizeof text, v);
+  return std::string(text, r.ptr);
 }
 inline std::string Format(bool v) { return v ? "true" : "false"; }
 inline std::string Format(const std::string& v) { return "\"" + v + "\""; }
@@ -171,7 +178,9 @@ void VisitAlignment(C& a, Visitor& v) {
      "clamped to it"});
   v("jump_slack_m", a.jump_slack_m, {"m", AtLeast(0), "allowed extra displacement per scan"});
   v("reset_after_jumps", a.reset_after_jumps,
-    {"scans", AtLeast(1), "jumps in a row after which the map restarts at the new pose"});
+    {"scans", AtLeast(1),
+     "pose jumps in a row (or scans in a row behind the clock, each later than the one before) "
+     "after which the map restarts at the last"});
   v("time_jitter_s", a.time_jitter_s,
     {"s", AtLeast(0), "a timestamp this much before the last is jitter: no speed sample"});
   v("scan_match", a.scan_match,

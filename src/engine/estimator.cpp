@@ -124,12 +124,14 @@ void Estimator::Impl::Begin(const Scan& scan) {
   r.polygon_contains_vehicle = false;
   r.cycle_sensors.clear();
   r.cycle_sensor_poses.clear();
+  r.cycle_silent_sensors.clear();
 }
 
 const Result& Estimator::Impl::Reject(RejectReason reason, const char* text) {
   result_.status = ScanStatus::kRejected;
   result_.reject_reason = reason;
   result_.message.assign(text);
+  result_.cycle_silent_sensors.clear();
   return result_;
 }
 
@@ -176,17 +178,19 @@ bool Estimator::Impl::CheckInput(const Scan& scan) {
 // rotation and sub-pixel shift of a vehicle-centred map).
 bool Estimator::Impl::Align(const Scan& scan) {
   Result& r = result_;
-  char text[200];
+  char text[320];
   const double previous_t = circle_.last_timestamp();
+  const bool restart = circle_.started();  // a reset now restarts a map
   const AlignStep step = circle_.Align(scan.timestamp_s, r.sensor_pose);
   if (!step.accepted) {
     if (step.reason == RejectReason::kTimestampNotIncreasing) {
       std::snprintf(
           text, sizeof text,
           "timestamp %.6f s is %.3f s before the latest accepted scan's %.6f s (more than "
-          "alignment.time_jitter_s %.3f s)",
+          "alignment.time_jitter_s %.3f s); %d of %d in a row before the map restarts",
           scan.timestamp_s, previous_t - scan.timestamp_s, previous_t,
-          config_.alignment.time_jitter_s);
+          config_.alignment.time_jitter_s, circle_.consecutive_behind(),
+          config_.alignment.reset_after_jumps);
     } else if (step.reason == RejectReason::kPoseOutOfRange) {
       std::snprintf(text, sizeof text,
                     "sensor pose (%.6g, %.6g) m moves the map by more cells than an integer "
@@ -227,6 +231,18 @@ bool Estimator::Impl::Align(const Scan& scan) {
   if (step.reset) {
     backend_->Clear();
     r.map_reset = true;
+    if (step.clock_restart) {
+      std::snprintf(text, sizeof text,
+                    "the clock stayed behind the latest accepted scan's %.6f s for %d scans in a "
+                    "row: the map restarted at this scan's %.6f s",
+                    previous_t, config_.alignment.reset_after_jumps, scan.timestamp_s);
+      AddMessage(&r, text);
+    } else if (restart) {
+      std::snprintf(text, sizeof text,
+                    "the pose jumped %d scans in a row: the map restarted at this scan's pose",
+                    config_.alignment.reset_after_jumps);
+      AddMessage(&r, text);
+    }
   }
   r.filtered_speed_mps = step.filtered_speed_mps;
   aligner_->Apply(step, circle_, before, r.sensor_pose, backend_.get(), &r);
@@ -332,7 +348,10 @@ void Estimator::Impl::ExtractPolygon() {
   double error_cells = 0.0;
   if (!polygon_->Extract(r.edge_cells, r.vehicle_cells, &r.polygon_cells, &error_cells)) {
     r.polygon_status = PolygonStatus::kNoFreeSpace;
-    AddMessage(&r, "nothing around the sensor is free: no polygon");
+    AddMessage(&r, polygon_->too_few_vertices()
+                       ? "no polygon of polygon.max_vertices vertices fits in the free space "
+                         "around the sensor: no polygon"
+                       : "nothing around the sensor is free: no polygon");
     return;
   }
   r.polygon_status = PolygonStatus::kOk;
@@ -366,8 +385,10 @@ const Result& Estimator::Impl::Process(const Scan& scan) {
   if (!Align(scan)) return finish();
   const Clock::time_point t_align = Clock::now();
   r.times.align_us = Micros(t_pre, t_align);
-  r.sweep_corrected =
+  // Sweep() remembers the pose for the next scan's motion, a scan without echoes too.
+  const bool swept =
       Sweep(preprocess_.get(), &sweep_, config_.sensor, r.sensor_pose, scan.timestamp_s);
+  r.sweep_corrected = swept && has_update;
   MatchPose(has_update);
   r.cycle_sensor_poses.back() = r.sensor_pose;
 

@@ -112,9 +112,10 @@ class Estimator::Impl {
   };
   void MakeRig();
   bool CheckCycle(const Scan* scans, int count);
-  bool CheckCycleTimes(const Scan* scans, int count);
+  bool CheckCycleTimes(const Scan* scans, int count, int newest);
   bool CheckCycleSpread(const Scan* scans, int newest);
   bool PreprocessCycle(const Scan* scans);
+  void NoteSilentSensors(const Scan* scans);
   void UpdateMapCycle(const Scan* scans);
   void FuseFootprint();
 

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <string>
 
 #include "estimator_impl.hpp"
 
@@ -101,14 +102,18 @@ bool Estimator::Impl::CheckCycle(const Scan* scans, int count) {
 
 // Every scan no earlier than the latest accepted time less alignment.time_jitter_s, as Process()
 // takes a scan: the alignment sees the cycle's newest scan only, and an older one of another
-// sensor would otherwise be fused however stale.
-bool Estimator::Impl::CheckCycleTimes(const Scan* scans, int count) {
+// sensor would otherwise be fused however stale. A scan other than the newest at or before that
+// time, within the jitter, is clock jitter as in Process() (the alignment reports the newest).
+bool Estimator::Impl::CheckCycleTimes(const Scan* scans, int count, int newest) {
   if (!circle_.started()) return true;
   const double previous = circle_.last_timestamp(), jitter = config_.alignment.time_jitter_s;
+  // The whole cycle behind: the alignment judges its newest scan (and restarts the map when the
+  // clock stays behind).
+  if (scans[newest].timestamp_s - previous < -jitter) return true;
+  char text[240];
   for (int i = 0; i < count; ++i) {
     const Scan& scan = scans[i];
     if (scan.timestamp_s - previous >= -jitter) continue;
-    char text[240];
     std::snprintf(text, sizeof text,
                   "the scan of sensor %d (%s) at %.6f s is %.3f s before the latest accepted "
                   "scan's %.6f s (more than alignment.time_jitter_s %.3f s)",
@@ -116,6 +121,17 @@ bool Estimator::Impl::CheckCycleTimes(const Scan* scans, int count) {
                   previous - scan.timestamp_s, previous, jitter);
     Reject(RejectReason::kTimestampNotIncreasing, text);
     return false;
+  }
+  for (int i = 0; i < count; ++i) {
+    const Scan& scan = scans[i];
+    if (i == newest || scan.timestamp_s > previous) continue;
+    result_.timestamp_jitter = true;
+    std::snprintf(text, sizeof text,
+                  "the scan of sensor %d (%s) at %.6f s is not after the latest accepted scan's "
+                  "%.6f s: clock jitter, used",
+                  scan.sensor, config_.sensors[scan.sensor].name.c_str(), scan.timestamp_s,
+                  previous);
+    AddMessage(&result_, text);
   }
   return true;
 }
@@ -176,7 +192,29 @@ bool Estimator::Impl::PreprocessCycle(const Scan* scans) {
     AddStats(unit.stats, &result_.stats);
     any = any || unit.has_update;
   }
+  NoteSilentSensors(scans);
   return any;
+}
+
+// Result::cycle_silent_sensors and a message naming them: the rig's sensors without a scan in
+// the cycle, or whose scan has no usable echo.
+void Estimator::Impl::NoteSilentSensors(const Scan* scans) {
+  Result& r = result_;
+  const int sensors = config_.sensor_count();
+  int scan_of[kMaxSensors];
+  std::fill_n(scan_of, sensors, -1);
+  for (int index : cycle_order_) scan_of[scans[index].sensor] = index;
+  for (int s = 0; s < sensors; ++s) {
+    const int index = scan_of[s];
+    if (index >= 0 && rig_[std::size_t(s)].has_update) continue;
+    r.cycle_silent_sensors.push_back(s);
+    char text[200];
+    std::snprintf(text, sizeof text, "sensor %d (%s): %s", s, config_.sensors[s].name.c_str(),
+                  index < 0                     ? "no scan in this cycle"
+                  : scans[index].points.empty() ? "empty scan, no update from it"
+                                                : "no usable echo, no update from it");
+    AddMessage(&r, text);
+  }
 }
 
 // Each scan's update from its own sensor's pose in the aligned map: every sensor's motion
@@ -190,15 +228,17 @@ bool Estimator::Impl::PreprocessCycle(const Scan* scans) {
 void Estimator::Impl::UpdateMapCycle(const Scan* scans) {
   Result& r = result_;
   const int n = int(cycle_order_.size());
-  bool all_swept = n > 0;
+  bool all_swept = true, any_update = false;  // of the scans with something to place
   for (int k = 0; k < n; ++k) {
     const Scan& scan = scans[cycle_order_[k]];
     RigSensor& unit = rig_[scan.sensor];
     unit.swept = SweepMotionOf(&unit.sweep, unit.config.sensor, r.cycle_sensor_poses[k],
                                scan.timestamp_s, &unit.motion);
+    if (!unit.has_update) continue;
+    any_update = true;
     all_swept = all_swept && unit.swept;
   }
-  r.sweep_corrected = all_swept;
+  r.sweep_corrected = any_update && all_swept;
 
   const Clock::time_point start = Clock::now();
   const double res = config_.map.resolution_m;
@@ -336,9 +376,13 @@ const Result& Estimator::Impl::ProcessCycle(const Scan* scans, int count) {
   }
   if (!CheckCycle(scans, count)) return finish();
   for (int i = 0; i < count; ++i) {
-    if (!CheckInput(scans[i])) return finish();
+    if (CheckInput(scans[i])) continue;
+    const int s = scans[i].sensor;
+    r.message.insert(0, "the scan of sensor " + std::to_string(s) + " (" +
+                            config_.sensors[std::size_t(s)].name + "): ");
+    return finish();
   }
-  if (!CheckCycleTimes(scans, count)) return finish();
+  if (!CheckCycleTimes(scans, count, newest)) return finish();
   SensorConfig reference;
   reference.mount_x_m = config_.rig.reference_x_m;
   reference.mount_y_m = config_.rig.reference_y_m;

@@ -81,4 +81,31 @@ Scan MakeScan(double t, Pose2D pose, const std::vector<double>& angles_deg,
   return scan;
 }
 
+Scan Wall(double t, const Pose2D& pose, int sensor, double range) {
+  Scan scan;
+  scan.timestamp_s = t;
+  scan.pose = pose;
+  scan.sensor = sensor;
+  for (int layer = 0; layer < 4; ++layer) {
+    for (double a = -30.0; a <= 30.0; a += 0.25) {
+      ScanPoint p;
+      p.layer = std::uint8_t(layer);
+      p.angle_rad = float(a * M_PI / 180.0);
+      p.range_m = float(range / std::cos(a * M_PI / 180.0));
+      scan.points.push_back(p);
+    }
+  }
+  return scan;
+}
+
+Config TwoAlike() {
+  Config c;
+  SensorConfig s;
+  s.name = "a";
+  c.sensors.push_back(s);
+  s.name = "b";
+  c.sensors.push_back(s);
+  return c;
+}
+
 }  // namespace freespace::test

@@ -33,6 +33,8 @@ struct AlignStep {
   bool clock_stalled = false;     // the clock has stalled (kStalledClockScans scans in a row
                                   // with one timestamp): no jump test, no speed sample
   bool stall_detected = false;    // this scan is the one that found the stall
+  bool clock_restart = false;     // the map restarts here: the clock stayed behind the latest
+                                  // accepted time for reset_after_jumps scans in a row
 };
 
 // Scans in a row stamped with the same time after which the clock counts as stalled (logs whose
@@ -56,6 +58,8 @@ class CircleAligner {
   std::int64_t origin_y() const { return origin_y_; }
   double resolution() const { return resolution_; }
   int consecutive_jumps() const { return jumps_; }
+  // Scans in a row rejected as before the latest accepted time, each later than the one before.
+  int consecutive_behind() const { return behind_; }
   double last_timestamp() const { return last_t_; }  // the latest accepted scan's
   bool started() const { return started_; }          // a scan has been accepted
 
@@ -79,6 +83,8 @@ class CircleAligner {
   int speed_next_ = 0;
   int jumps_ = 0;
   int repeats_ = 0;  // scans in a row (accepted or not) stamped last_t_ after the one that was
+  int behind_ = 0;   // consecutive_behind(), and the last of those scans' time
+  double behind_t_ = 0.0;
 };
 
 // Angle wrapped to (-pi, pi].

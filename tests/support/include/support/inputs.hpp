@@ -43,4 +43,11 @@ KernelParams SmallParams(int width, int height, int opening_radius = 0);
 Scan MakeScan(double t, Pose2D pose, const std::vector<double>& angles_deg,
               const std::vector<double>& ranges);
 
+// Sensor `sensor`'s scan of a wall across its view `range` metres ahead, on 4 layers from -30 to
+// 30 deg.
+Scan Wall(double t, const Pose2D& pose, int sensor, double range);
+
+// A rig of two default sensors at one mount, "a" and "b".
+Config TwoAlike();
+
 }  // namespace freespace::test
