@@ -278,6 +278,34 @@ PY
   --config "$out/eval-rig/config.yaml" --out "$out/eval-rig-log" >"$out/eval-rig-log.txt" 2>&1 ||
   fail "seeds.json's config does not run the rig's log: $(cat "$out/eval-rig-log.txt")"
 
+# A rig's log: the summary counts scans, a rig's cycles apart; a scanner that sends empty scans
+# is warned about per cycle, counted under its name, and stops --strict; --max-scans counts
+# scans. Sensor 2 (rear_left) of the 0.5 s drive sends empty scans.
+awk '$1 == "SCAN" && $2 == 2 { print "SCAN 2", $3, $4, $5, $6, 0; next } { print }' \
+  "$out/sim-rig/sim.fslog" >"$out/rig-dead.fslog"
+"$bin" run --log "$out/rig-dead.fslog" --strict --quiet --out "$out/rig-dead-strict" \
+  >"$out/rig-dead-strict.txt" 2>&1
+[ $? -eq 1 ] || fail "--strict ran on over a rig's empty scan"
+grep -q "cycle 0: sensor 2 (rear_left): empty scan" "$out/rig-dead-strict.txt" ||
+  fail "the empty scan's sensor is not named: $(cat "$out/rig-dead-strict.txt")"
+"$bin" run --log "$out/rig-dead.fslog" --quiet --out "$out/rig-dead" >/dev/null 2>&1 ||
+  fail "run on a rig's log with empty scans failed"
+"$bin" run --log "$out/sim-rig/sim.fslog" --quiet --max-scans 6 --out "$out/rig-max" \
+  >/dev/null 2>&1 || fail "run --max-scans on a rig's log failed"
+/usr/bin/python3 - "$out" <<'PY' || fail "a rig's summary.json does not add up"
+import json, sys
+s = json.load(open(sys.argv[1] + "/rig-dead/summary.json"))
+cycles = s["cycles"]
+assert s["scans_read"] == 4 * cycles["read"] == s["scans"] + s["skipped"], s
+assert s["no_sensor_update"] == cycles["processed"], s
+rear = cycles["sensors"]["rear_left"]
+assert rear == {"scans": cycles["processed"], "no_update": cycles["processed"], "missing": 0}, s
+assert cycles["sensors"]["front_left"]["no_update"] == 0, s
+m = json.load(open(sys.argv[1] + "/rig-max/summary.json"))
+assert m["scans_read"] == m["scans"] == 6 and m["cycles"]["read"] == 2, m
+assert m["cycles"]["sensors"]["rear_left"]["missing"] == 1, m
+PY
+
 # Bad arguments.
 "$bin" demo --scenario moon --out "$out/x" >/dev/null 2>&1 && fail "unknown scenario accepted"
 "$bin" simulate --odometry-noise huge --out "$out/x" >/dev/null 2>&1 && fail "bad noise accepted"

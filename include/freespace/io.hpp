@@ -110,8 +110,9 @@ class CycleReader {
   CycleReader(LogReader& reader, int sensors) : reader_(reader), sensors_(sensors) {}
   // The next cycle into `cycle` (at least one scan); false at the end of the log.
   bool Next(std::vector<Scan>* cycle);
-  // The log line where the cycle's first scan started.
+  // The log line where the cycle's first scan started, and where its last one did.
   std::size_t line() const { return line_; }
+  std::size_t last_line() const { return last_line_; }
 
  private:
   LogReader& reader_;
@@ -120,6 +121,7 @@ class CycleReader {
   bool has_pending_ = false;
   std::size_t pending_line_ = 0;
   std::size_t line_ = 0;
+  std::size_t last_line_ = 0;
 };
 
 // Writes the project's own multi-layer log format (docs/formats.md): version 1 for one sensor,

@@ -14,13 +14,13 @@
 #include "bag_options.hpp"
 #include "commands.hpp"
 #include "engine_options.hpp"
-#include "eval/stage_stats.hpp"
 #include "freespace/freespace.hpp"
 #include "interrupt.hpp"
 #include "output/render.hpp"
 #include "output/report.hpp"
 #include "output/text_file.hpp"
 #include "output_options.hpp"
+#include "run_tally.hpp"
 
 namespace freespace::cli {
 namespace {
@@ -64,45 +64,6 @@ LogFormat ParseFormat(const std::string& name) {
 }
 
 using Clock = std::chrono::steady_clock;
-
-// What summary.json counts.
-struct RunTally {
-  long scans_read = 0, processed = 0, no_update = 0, malformed = 0, resets = 0, jitter = 0;
-  long stalled = 0;  // scans used while the clock stalled
-  long swept = 0;    // scans placed from the sensor's motion during its sweep (sensor.sweep_s)
-  long invalid_range = 0, out_of_aperture = 0, bad_layer = 0, clutter = 0, virtual_points = 0;
-  long points = 0, max_vertices = 0, vehicle_outside = 0, no_free_space = 0;
-  double vertex_sum = 0;
-  std::size_t snapshots = 0;
-  std::map<std::string, long> rejected;  // by reason
-  StageHistogram times;                  // fixed memory however long the log
-
-  void AddPoints(const ScanStats& st) {
-    points += st.points;
-    invalid_range += st.invalid_range;
-    out_of_aperture += st.out_of_aperture;
-    bad_layer += st.bad_layer;
-    clutter += st.clutter;
-    virtual_points += st.virtual_points;
-  }
-  void AddProcessed(const Result& r) {
-    ++processed;
-    times.Add(r.times);
-    vertex_sum += double(r.polygon.size());
-    max_vertices = std::max<long>(max_vertices, long(r.polygon.size()));
-    // A scan without a polygon (nothing free around yet) misses nothing: counted apart.
-    if (r.polygon_status == PolygonStatus::kOk) {
-      vehicle_outside += r.polygon_contains_vehicle ? 0 : 1;
-    } else {
-      ++no_free_space;
-    }
-  }
-  long Rejected() const {
-    long total = 0;
-    for (const auto& [reason, n] : rejected) total += n;
-    return total;
-  }
-};
 
 // One `freespace run`: the log, the estimator, and what they write.
 class LogRun {
@@ -155,6 +116,7 @@ class LogRun {
                           std::to_string(config_.sensor_count()));
       }
       cycles_ = std::make_unique<CycleReader>(*reader_, config_.sensor_count());
+      tally_ = RunTally(config_.sensor_count());
       RefuseOverwritingInputs({{"--log", options_.log}, {"--config", options_.engine.config_path}},
                               Outputs());
       MakeDirectories(options_.out);
@@ -235,7 +197,8 @@ class LogRun {
   }
 
   // Every scan of the log (up to --max-scans); kExitBadInput when --strict stops it.
-  // A rig's log goes by cycles (CycleReader); --max-scans counts scans.
+  // A rig's log goes by cycles (CycleReader); --max-scans counts scans: the last cycle is cut
+  // to the limit.
   int ProcessLog() {
     std::vector<Scan> cycle;
     // A copy: the estimator's result is the next scan's once that is processed, rejected too.
@@ -246,23 +209,33 @@ class LogRun {
       const bool more = cycles_->Next(&cycle);
       if (ReportIssues()) return kExitBadInput;
       if (!more) break;
+      if (options_.max_scans > 0 && tally_.scans_read + long(cycle.size()) > options_.max_scans)
+        cycle.resize(std::size_t(options_.max_scans - tally_.scans_read));
       tally_.scans_read += long(cycle.size());
-      const std::string where = reader_->path() + ":" + std::to_string(cycles_->line());
+      tally_.cycles_read += tally_.rig() ? 1 : 0;
       const Result& r = estimator_->ProcessCycle(cycle);
-      const Verdict verdict = Check(r, cycle.front(), where);
+      const Verdict verdict = Check(r, cycle, Where(r));
       if (verdict == Verdict::kStop) return kExitBadInput;
       if (verdict == Verdict::kSkip) continue;
-      Keep(r);
+      Keep(r, long(cycle.size()));
       last = r;
       any = true;
       PrintProgress();
     }
     // The last processed scan always gets a snapshot.
     if (any &&
-        (options_.snapshot_every <= 0 || (tally_.processed - 1) % options_.snapshot_every != 0)) {
+        (options_.snapshot_every <= 0 || (tally_.calls - 1) % options_.snapshot_every != 0)) {
       Snapshot(last);
     }
     return kExitOk;
+  }
+
+  // Where a warning about call `r` points: the log's line (a rig's cycle: its lines) and the
+  // scan's (cycle's) index.
+  std::string Where(const Result& r) const {
+    std::string at = reader_->path() + ":" + std::to_string(cycles_->line());
+    if (cycles_->last_line() != cycles_->line()) at += "-" + std::to_string(cycles_->last_line());
+    return at + (tally_.rig() ? ": cycle " : ": scan ") + std::to_string(r.scan_index);
   }
 
   // Under --strict: prints why the run stops and returns true.
@@ -287,11 +260,10 @@ class LogRun {
     return false;
   }
 
-  // Counts and warns about what went wrong with one scan's input.
-  Verdict Check(const Result& r, const Scan& scan, const std::string& where) {
+  // Counts and warns about what went wrong with one call's input (a scan, a rig's cycle).
+  Verdict Check(const Result& r, const std::vector<Scan>& cycle, const std::string& at) {
     const ScanStats& st = r.stats;
     tally_.AddPoints(st);
-    const std::string at = where + ": scan " + std::to_string(r.scan_index);
     if (st.invalid_range + st.out_of_aperture + st.bad_layer > 0) {
       warnings_.Print("points", at + ": " + std::to_string(st.invalid_range) +
                                     " invalid range(s) used as no echo, " +
@@ -301,14 +273,17 @@ class LogRun {
       if (StopsHere("bad input")) return Verdict::kStop;
     }
     if (r.status == ScanStatus::kRejected) {
-      ++tally_.rejected[ToString(r.reject_reason)];
+      tally_.AddRejected(r, long(cycle.size()));
       warnings_.Print(ToString(r.reject_reason), at + " skipped: " + r.message);
       return StopsHere("bad input") ? Verdict::kStop : Verdict::kSkip;
     }
-    if (r.status == ScanStatus::kNoSensorUpdate) {
-      ++tally_.no_update;
-      warnings_.Print("no_sensor_update", at + ": " + r.message);
-      if (scan.points.empty() && StopsHere("an empty scan")) return Verdict::kStop;
+    // A scan (of a rig: any sensor's) that added nothing, or a rig's sensor without a scan.
+    const long silent = tally_.AddSilent(r, cycle);
+    if (silent > 0 || !r.cycle_silent_sensors.empty()) {
+      warnings_.Print(silent > 0 ? "no_sensor_update" : "sensor_missing", at + ": " + r.message);
+      const bool empty = std::any_of(cycle.begin(), cycle.end(),
+                                     [](const Scan& scan) { return scan.points.empty(); });
+      if (empty && StopsHere("an empty scan")) return Verdict::kStop;
     }
     if (r.clock_stalled) {
       ++tally_.stalled;
@@ -324,19 +299,20 @@ class LogRun {
       warnings_.Print("timestamp_jitter", at + ": " + r.message);
       if (StopsHere("a timestamp going backwards")) return Verdict::kStop;
     }
-    if (r.map_reset && tally_.processed > 0) {
+    if (r.map_reset && tally_.calls > 0) {
       ++tally_.resets;
-      warnings_.Print("reset", at + ": the map restarted here after repeated pose jumps");
+      warnings_.Print("reset", at + ": " + r.message);
     }
     return Verdict::kKeep;
   }
 
-  // A processed scan: counted, its polygon line written, a snapshot every --snapshot-every.
-  void Keep(const Result& r) {
-    tally_.AddProcessed(r);
+  // A processed call (`scans` scans): counted, its polygon line written, a snapshot every
+  // --snapshot-every.
+  void Keep(const Result& r, long scans) {
+    tally_.AddProcessed(r, scans);
     polygons_->Write(PolygonLine(options_.polygon_format, r) + '\n');
     if (bag_out_.active()) bag_out_.Write(r, estimator_->map());
-    if (options_.snapshot_every > 0 && (tally_.processed - 1) % options_.snapshot_every == 0) {
+    if (options_.snapshot_every > 0 && (tally_.calls - 1) % options_.snapshot_every == 0) {
       Snapshot(r);
     }
   }
@@ -370,41 +346,14 @@ class LogRun {
 
   // summary.json; throws OutputError when it cannot be written in full.
   void WriteSummary() {
-    const RunTally& t = tally_;
-    nlohmann::json rejected = nlohmann::json::object();
-    for (const auto& [reason, n] : t.rejected) rejected[reason] = n;
-    const long skipped = t.Rejected() + t.malformed;
     seconds_ = std::chrono::duration<double>(Clock::now() - started_).count();
-    const nlohmann::json summary = {
-        {"log", options_.log},
-        {"backend", estimator_->backend_name()},
-        {"scans_read", t.scans_read},
-        {"scans", t.processed},
-        {"skipped", skipped},
-        {"rejected", rejected},
-        {"malformed_lines", t.malformed},
-        {"no_sensor_update", t.no_update},
-        {"map_resets", t.resets},
-        {"timestamp_jitter", t.jitter},
-        {"clock_stalled", t.stalled},
-        {"sweep_corrected", t.swept},
-        {"points",
-         {{"total", t.points},
-          {"invalid_range", t.invalid_range},
-          {"out_of_aperture", t.out_of_aperture},
-          {"bad_layer", t.bad_layer},
-          {"clutter", t.clutter},
-          {"virtual", t.virtual_points}}},
-        {"polygon",
-         {{"max_vertices", t.max_vertices},
-          {"mean_vertices", t.processed ? t.vertex_sum / t.processed : 0.0},
-          {"vehicle_outside", t.vehicle_outside},
-          {"no_free_space", t.no_free_space}}},
-        {"snapshots", t.snapshots},
-        {"wall_s", seconds_},
-        {"interrupted_by", signal_ != 0 ? nlohmann::json(SignalName(signal_)) : nlohmann::json()},
-        {"stage_us", t.times.Summary()},
-    };
+    nlohmann::json summary = tally_.Counts(config_);
+    summary["log"] = options_.log;
+    summary["backend"] = estimator_->backend_name();
+    summary["wall_s"] = seconds_;
+    summary["interrupted_by"] =
+        signal_ != 0 ? nlohmann::json(SignalName(signal_)) : nlohmann::json();
+    summary["stage_us"] = tally_.times.Summary();
     WriteTextFile(options_.out + "/summary.json", summary.dump(2) + "\n");
   }
 
@@ -417,8 +366,9 @@ class LogRun {
                 << " after " << t.scans_read << " scans of " << options_.log << " ("
                 << int(100.0 * reader_->progress()) << " %); the rest was not read\n";
     }
-    std::cerr << (tty_ ? "\r" : "") << "freespace run: " << t.processed << " scans processed, "
-              << skipped << " skipped, median " << t.times.MedianTotal() / 1000.0
+    std::cerr << (tty_ ? "\r" : "") << "freespace run: " << t.processed << " scans"
+              << (t.rig() ? " in " + std::to_string(t.calls) + " cycles" : std::string())
+              << " processed, " << skipped << " skipped, median " << t.times.MedianTotal() / 1000.0
               << " ms/scan; wrote " << options_.out << "/"
               << PolygonFileName(options_.polygon_format) << ", summary.json and " << t.snapshots
               << " PNG(s)\n";
@@ -432,7 +382,7 @@ class LogRun {
   BagOutput bag_out_;
   Config config_;
   Warnings warnings_;
-  RunTally tally_;
+  RunTally tally_{1};
   bool tty_ = false;
   const InterruptGuard* interrupt_ = nullptr;
   int signal_ = 0;  // the signal that stopped the run, 0: none

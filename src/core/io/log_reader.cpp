@@ -47,7 +47,7 @@ bool CycleReader::Next(std::vector<Scan>* cycle) {
   cycle->clear();
   if (has_pending_) {
     cycle->push_back(std::move(pending_));
-    line_ = pending_line_;
+    line_ = last_line_ = pending_line_;
     has_pending_ = false;
   }
   while (int(cycle->size()) < sensors_) {
@@ -62,6 +62,7 @@ bool CycleReader::Next(std::vector<Scan>* cycle) {
       break;
     }
     if (cycle->empty()) line_ = reader_.line();
+    last_line_ = reader_.line();
     cycle->push_back(std::move(scan));
   }
   return !cycle->empty();
