@@ -1,10 +1,16 @@
 // What the command-line tools write: the polygons.jsonl line stays valid JSON for any number
 // (docs/formats.md), and checked text files report a failed write naming the file.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <random>
 
@@ -76,6 +82,53 @@ TEST(TextFile, AFullDiskIsAnErrorNamingTheFile) {
               std::string::npos)
         << e.what();
   }
+}
+
+// Runs `write` in a child process whose files may not grow past `limit` bytes (a full disk):
+// true when it failed with an OutputError, as a full disk makes it.
+bool FailsPastSize(long limit, const std::function<void()>& write) {
+  const pid_t child = fork();
+  if (child == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);  // the write fails with EFBIG instead
+    const rlimit size{rlim_t(limit), rlim_t(limit)};
+    setrlimit(RLIMIT_FSIZE, &size);
+    try {
+      write();
+    } catch (const OutputError&) {
+      _exit(0);
+    }
+    _exit(1);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+// A file of lines that fails keeps its whole lines only: a reader of polygons.jsonl never meets
+// a cut line. A whole document that fails is removed.
+TEST(TextFile, AFailedWriteLeavesWholeLinesOrNoDocument) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("freespace_output_test_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string lines = (dir / "lines.jsonl").string();
+  const std::string line = "{\"scan\": 12345, \"polygon\": [1.5, 2]}\n";  // 37 bytes
+  ASSERT_TRUE(FailsPastSize(1000, [&] {
+    TextFile file(lines);
+    for (int i = 0; i < 1000; ++i) file.Write(line);
+    file.Close();
+  }));
+  std::ifstream in(lines, std::ios::binary);
+  const std::string kept((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(kept.size(), 1000 / line.size() * line.size());  // 27 whole lines of the 1000 bytes
+  for (std::size_t at = 0; at < kept.size(); at += line.size()) {
+    ASSERT_EQ(kept.substr(at, line.size()), line) << "at byte " << at;
+  }
+
+  const std::string document = (dir / "summary.json").string();
+  ASSERT_TRUE(
+      FailsPastSize(1000, [&] { WriteTextFile(document, std::string(5000, ' ') + "{}\n"); }));
+  EXPECT_FALSE(std::filesystem::exists(document));
+  std::filesystem::remove_all(dir);
 }
 
 TEST(TextFile, ADirectoryInTheWayIsAnErrorNamingTheFile) {

@@ -18,10 +18,38 @@ TextFile::TextFile(std::string path) : path_(std::move(path)) {
   if (!out_) Fail("cannot create");
 }
 
+namespace {
+
+// Cuts `path` after its last newline (to nothing without one); leaves it as it is when it cannot
+// be read.
+void CutToLastLine(const std::string& path) {
+  std::error_code error;
+  std::uintmax_t end = std::filesystem::file_size(path, error);
+  if (error) return;
+  std::ifstream in(path, std::ios::binary);
+  char buffer[4096];
+  while (end > 0) {
+    const std::uintmax_t from = end > sizeof buffer ? end - sizeof buffer : 0;
+    in.seekg(std::streamoff(from));
+    in.read(buffer, std::streamsize(end - from));
+    if (!in) return;
+    for (std::uintmax_t i = end - from; i-- > 0;) {
+      if (buffer[i] == '\n') {
+        std::filesystem::resize_file(path, from + i + 1, error);
+        return;
+      }
+    }
+    end = from;
+  }
+  std::filesystem::resize_file(path, 0, error);
+}
+
+}  // namespace
+
 void TextFile::Write(std::string_view text) {
   errno = 0;
   out_.write(text.data(), std::streamsize(text.size()));
-  if (!out_) Fail("write failed");
+  if (!out_) FailWhole("write failed");
 }
 
 void TextFile::Close() {
@@ -30,15 +58,28 @@ void TextFile::Close() {
   out_.flush();
   const bool flushed = bool(out_);
   out_.close();
-  if (!flushed || out_.fail()) Fail("write failed");
+  if (!flushed || out_.fail()) FailWhole("write failed");
 }
 
 void TextFile::Fail(const char* what) const { throw StreamError(path_, what); }
 
+void TextFile::FailWhole(const char* what) {
+  const OutputError error = StreamError(path_, what);  // errno before the cut
+  out_.close();
+  CutToLastLine(path_);
+  throw error;
+}
+
 void WriteTextFile(const std::string& path, std::string_view text) {
   TextFile file(path);
-  file.Write(text);
-  file.Close();
+  try {
+    file.Write(text);
+    file.Close();
+  } catch (const OutputError&) {
+    std::error_code error;
+    std::filesystem::remove(path, error);  // a document cut anywhere is no document
+    throw;
+  }
 }
 
 void CheckWritten(const std::string& path) {
