@@ -39,4 +39,23 @@ head -1 "$out/consumer.out" | grep -q "^freespace $version (headers $version), b
 tail -2 "$out/consumer.out" | head -1 | grep -q "^scan 24: ok, [0-9]* vertices$" \
   || fail "last scan: $(tail -2 "$out/consumer.out" | head -1)"
 grep -q "^map 300 x 300 at 0.2 m$" "$out/consumer.out" || fail "map line: $(tail -1 "$out/consumer.out")"
+
+# The baselines library under the name the docs and its own messages give (freespace::baselines).
+mkdir -p "$out/baselines-src"
+cat >"$out/baselines-src/CMakeLists.txt" <<'CMAKE'
+cmake_minimum_required(VERSION 3.20)
+project(baselines_consumer LANGUAGES CXX)
+find_package(freespace REQUIRED)
+add_executable(baselines_consumer main.cpp)
+target_link_libraries(baselines_consumer PRIVATE freespace::baselines)
+CMAKE
+cat >"$out/baselines-src/main.cpp" <<'CPP'
+#include <freespace/baselines.hpp>
+int main() { freespace::RegisterBaselines(); }
+CPP
+"$cmake" -S "$out/baselines-src" -B "$out/baselines" -DCMAKE_PREFIX_PATH="$prefix" \
+  -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -Dfreespace_DIR="$(dirname "$config")" \
+  >"$out/baselines.log" 2>&1 || fail "freespace::baselines not found: $(tail -20 "$out/baselines.log")"
+"$cmake" --build "$out/baselines" >>"$out/baselines.log" 2>&1 &&
+  "$out/baselines/baselines_consumer" || fail "freespace::baselines consumer: $(tail -20 "$out/baselines.log")"
 echo "install + consumer ok: $(tail -2 "$out/consumer.out" | head -1)"
