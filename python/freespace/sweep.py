@@ -27,182 +27,29 @@ with matplotlib, OUT/tradeoff.png.
 """
 
 import argparse
-import collections
 import csv
-import itertools
 import json
 import math
 import os
 import socket
 import sys
 import time
-
-import yaml
+import uuid
 
 import freespace as fs
+from freespace.sweep_grid import (GRID_KEYS, LOG_KEYS, GridError, load_grid,  # noqa: F401
+                                   make_cases, parse_seeds)
 
 # Per-drive means of the scores (docs/metrics.md), as seed_summary's per_seed rows hold them.
 METRICS = ("accuracy", "false_free_rate", "intrusion_m2", "intrusion_moving_m2",
            "intrusion_mask_m2", "intrusion_geometric_m2", "coverage", "coverage_seen")
 STAGES = ("preprocess", "align", "rasterize", "fuse", "classify", "mask", "insight", "polygon",
           "total")
-GRID_KEYS = {"config", "overrides", "scenarios", "seeds", "duration_s", "odometry_noise", "logs",
-             "grid"}
-LOG_KEYS = {"log", "config", "truth", "max_scans"}
-
-
-class GridError(ValueError):
-    """The grid file is missing, not YAML, or holds a key or value the sweep does not know."""
-
-
-def _decimal(text):
-    return text.isdigit() and text.isascii() and (text == "0" or not text.startswith("0"))
-
-
-def parse_seeds(value):
-    """"1-8", "1,3,5-7", an integer or a list of integers: the seeds in the order given."""
-    if isinstance(value, int) and not isinstance(value, bool):
-        return [value]
-    if isinstance(value, list) and not all(isinstance(v, int) and not isinstance(v, bool) and
-                                           v >= 0 for v in value):
-        raise GridError(f"seeds = {value!r}: give \"1-8\", \"1,3,5-7\" or a list of integers")
-    if isinstance(value, str):
-        seeds = []
-        for part in value.split(","):
-            first, dash, last = part.strip().partition("-")
-            if not _decimal(first) or (dash and not _decimal(last)):
-                raise GridError(f"seeds '{value}': '{part}' is not a seed or a range (decimal "
-                                "digits, no leading zero)")
-            a, b = int(first), int(last or first)
-            if b < a:
-                raise GridError(f"seeds '{value}': '{part}' is not a range")
-            seeds.extend(range(a, b + 1))
-        value = seeds
-    if isinstance(value, list) and value:
-        repeated = sorted(s for s, n in collections.Counter(value).items() if n > 1)
-        if repeated:
-            raise GridError(f"seeds: {repeated} given more than once (a mean over seeds would "
-                            "count them twice)")
-        return value
-    raise GridError(f"seeds = {value!r}: give \"1-8\", \"1,3,5-7\" or a list of integers")
-
-
-def load_grid(path):
-    """The grid file as a dict of checked values (paths made absolute)."""
-    try:
-        with open(path) as f:
-            grid = yaml.safe_load(f) or {}
-    except OSError as e:
-        raise GridError(f"{path}: cannot read: {e.strerror}") from e
-    except yaml.YAMLError as e:
-        raise GridError(f"{path}: not valid YAML: {e}") from e
-    if not isinstance(grid, dict):
-        raise GridError(f"{path}: the top level must be a mapping")
-    unknown = set(grid) - GRID_KEYS
-    if unknown:
-        raise GridError(f"{path}: unknown key(s) {sorted(unknown)}; known: {sorted(GRID_KEYS)}")
-    here = os.path.dirname(os.path.abspath(path))
-
-    def resolve(p):
-        return p if os.path.isabs(p) else os.path.normpath(os.path.join(here, p))
-
-    out = {
-        "config": resolve(grid["config"]) if grid.get("config") else None,
-        "overrides": dict(grid.get("overrides") or {}),
-        "scenarios": list(grid.get("scenarios") or []),
-        "seeds": parse_seeds(grid["seeds"]) if "seeds" in grid else [1],
-        "duration_s": float(grid.get("duration_s", 0.0)),
-        "odometry_noise": str(grid.get("odometry_noise", "none")),
-        "logs": [],
-        "grid": dict(grid.get("grid") or {}),
-    }
-    for name in out["scenarios"]:
-        if name not in fs.scenario_names():
-            raise GridError(f"{path}: scenario '{name}': known are {fs.scenario_names()}")
-    for entry in grid.get("logs") or []:
-        entry = {"log": entry} if isinstance(entry, str) else dict(entry)
-        if "log" not in entry or set(entry) - LOG_KEYS:
-            raise GridError(f"{path}: a log entry needs 'log' and may have {sorted(LOG_KEYS)}; "
-                            f"got {sorted(entry)}")
-        for key in ("log", "config", "truth"):
-            if entry.get(key):
-                entry[key] = resolve(entry[key])
-        out["logs"].append(entry)
-    for key, values in out["grid"].items():
-        if not isinstance(values, list) or not values:
-            raise GridError(f"{path}: grid.{key} must be a non-empty list of values")
-    for key, value in list(out["grid"].items()) + list(out["overrides"].items()):
-        values = value if isinstance(value, list) else [value]  # a grid axis: its values
-        if key == "backend.threads" or (key == "backend" and any(
-                isinstance(v, dict) and "threads" in v for v in values)):
-            raise GridError(f"{path}: backend.threads is set by --threads-per-task, not the grid")
-    for entry in out["logs"]:
-        scans = entry.get("max_scans", 0)
-        if not isinstance(scans, int) or isinstance(scans, bool) or scans < 0:
-            raise GridError(f"{path}: log {entry['log']}: max_scans = {scans!r}: give an "
-                            "integer >= 0 (0: all)")
-    if not out["scenarios"] and not out["logs"]:
-        raise GridError(f"{path}: no scenarios and no logs: nothing to run")
-    return out
-
-
-def make_cases(grid, threads_per_task=1):
-    """Every case of the grid, in order: settings outermost, then scenarios x seeds, then logs.
-    Each case carries its whole config as YAML, so that a task needs nothing else."""
-    base = fs.Config.from_yaml_file(grid["config"]) if grid["config"] else fs.Config()
-    base = base.with_overrides(grid["overrides"])
-    keys = list(grid["grid"])
-    settings = [dict(zip(keys, combo)) for combo in
-                itertools.product(*(grid["grid"][k] for k in keys))]
-    cases = []
-    for setting in settings:
-        threads = {"backend.threads": threads_per_task}
-        config = base.with_overrides(setting).with_overrides(threads)
-        common = {"setting": setting}
-        # As freespace eval and demo: a config that sets the sensor keeps it, else the drive's
-        # scanner gives it.
-        keep_sensor = (_sets_sensor(grid["config"]) or
-                       any(_names_sensor(k) for k in list(grid["overrides"]) + keys))
-        for scenario in grid["scenarios"]:
-            for seed in grid["seeds"]:
-                cases.append(dict(common, kind="sim", scenario=scenario, seed=seed,
-                                  duration_s=grid["duration_s"],
-                                  odometry_noise=grid["odometry_noise"],
-                                  keep_sensor=keep_sensor, config=config.to_yaml()))
-        for entry in grid["logs"]:
-            log_config = config
-            if entry.get("config"):
-                log_config = (fs.Config.from_yaml_file(entry["config"])
-                              .with_overrides(grid["overrides"]).with_overrides(setting)
-                              .with_overrides(threads))
-            cases.append(dict(common, kind="log", log=entry["log"], truth=entry.get("truth"),
-                              max_scans=int(entry.get("max_scans", 0)),
-                              config_sets_sensor=_sets_sensor(entry.get("config")),
-                              config=log_config.to_yaml()))
-    for i, case in enumerate(cases):
-        case["case"] = i
-    return cases
-
-
-def _names_sensor(key):
-    """Whether an override key ("sensor", "sensor.mount_x_m") sets the sensor; sensor_model's
-    fields do not."""
-    return key in ("sensor", "sensors") or key.startswith("sensor.")
-
-
-def _sets_sensor(path):
-    if not path:
-        return False
-    with open(path) as f:
-        sections = yaml.safe_load(f) or {}
-    return "sensor" in sections or "sensors" in sections
-
-
-def _row(case, drive_metrics, stage_us, scans, rejected, started):
+def _row(case, drive_metrics, stage_us, scans, rejected, started, malformed=0):
     row = {"case": case["case"], "kind": case["kind"], "scenario": case.get("scenario", ""),
            "seed": case.get("seed", ""), "log": case.get("log", "")}
     row.update({k: v for k, v in case["setting"].items()})
-    row.update({"scans": scans, "rejected": rejected})
+    row.update({"scans": scans, "rejected": rejected, "malformed_lines": malformed})
     row.update({m: drive_metrics.get(m, math.nan) for m in METRICS})
     row.update({f"{s}_us": stage_us[s] for s in STAGES})
     row.update({"wall_s": time.perf_counter() - started,
@@ -228,6 +75,8 @@ def _run_log(case, config, started):
     scorer = fs.TruthScorer(fs.read_truth(case["truth"])) if case["truth"] else None
     metrics, times = fs.MetricsSeries(), fs.StageSeries()
     scans = rejected = 0
+    # The reader's skipped lines, counted as `freespace run` counts them (its notes are not).
+    malformed = sum(not i.startswith("note: ") for i in reader.issues())
     for scan in reader:
         r = est.process(scan)
         scans += 1
@@ -237,14 +86,16 @@ def _run_log(case, config, started):
             times.add(r)
             if scorer:
                 metrics.add(scorer.score(est.map(), r))
+        malformed += sum(not i.startswith("note: ") for i in reader.issues())
         if case["max_scans"] and scans == case["max_scans"]:
             break
+    malformed += sum(not i.startswith("note: ") for i in reader.issues())
     means = {}
     if scorer:
         summary = metrics.summary()
         means = {m: summary[m]["mean"] for m in METRICS}
     stage_us = {s: times.quantile(s, 0.5) for s in STAGES}
-    return _row(case, means, stage_us, scans, rejected, started)
+    return _row(case, means, stage_us, scans, rejected, started, malformed)
 
 
 def run_case(case):
@@ -300,8 +151,8 @@ def aggregate(rows):
     return out
 
 
-_ROW_FIXED = {"case", "kind", "scenario", "seed", "log", "scans", "rejected", "wall_s", "worker",
-              "error"} | set(METRICS) | {f"{s}_us" for s in STAGES}
+_ROW_FIXED = {"case", "kind", "scenario", "seed", "log", "scans", "rejected", "malformed_lines",
+              "wall_s", "worker", "error"} | set(METRICS) | {f"{s}_us" for s in STAGES}
 
 
 def _setting_of(row):
@@ -322,37 +173,57 @@ def _progress_line(row, done, total):
     what = f"{row['scenario']} seed {row['seed']}" if row["kind"] == "sim" else row["log"]
     if row["error"]:
         return f"freespace-sweep: [{done}/{total}] case {row['case']} ({what}): {row['error']}"
-    return (f"freespace-sweep: [{done}/{total}] case {row['case']} ({what}): {row['scans']} scans, "
-            f"accuracy {row['accuracy']:.4f}, intrusion {row['intrusion_m2']:.4f} m2, coverage "
-            f"{row['coverage']:.4f}, {row['wall_s']:.1f} s")
+    skipped = (f", {row['malformed_lines']} malformed line(s) skipped"
+               if row["malformed_lines"] else "")
+    return (f"freespace-sweep: [{done}/{total}] case {row['case']} ({what}): {row['scans']} scans"
+            f"{skipped}, accuracy {row['accuracy']:.4f}, intrusion {row['intrusion_m2']:.4f} m2, "
+            f"coverage {row['coverage']:.4f}, {row['wall_s']:.1f} s")
+
+
+def _error_row(case, error):
+    row = _row(case, {}, {s: math.nan for s in STAGES}, 0, 0, time.perf_counter())
+    row.update({"wall_s": math.nan, "worker": "", "error": error})
+    return row
 
 
 def _collect(futures, cases, quiet):
     """Each case's row as its task ends. A task that ends without a row (its worker lost, the
-    cluster gone) gives a row whose error says so: no case is dropped."""
+    cluster gone) gives a row whose error says so: no case is dropped. Ctrl-C stops waiting: the
+    cases not ended by then are rows whose error says so, and the second value is True."""
     from dask.distributed import as_completed
 
     by_key = {f.key: c for f, c in zip(futures, cases)}
     rows = []
-    for future in as_completed(futures):
-        try:
-            row = future.result()
-        except Exception as e:  # noqa: BLE001 (reported in the row)
-            row = _row(by_key[future.key], {}, {s: math.nan for s in STAGES}, 0, 0,
-                       time.perf_counter())
-            row.update({"wall_s": math.nan, "worker": "",
-                        "error": f"task failed on the cluster: {type(e).__name__}: {e}"})
-        rows.append(row)
-        if not quiet:
-            print(_progress_line(row, len(rows), len(cases)), flush=True)
-    return rows
+    try:
+        for future in as_completed(futures):
+            try:
+                row = future.result()
+            except Exception as e:  # noqa: BLE001 (reported in the row)
+                row = _error_row(by_key[future.key],
+                                 f"task failed on the cluster: {type(e).__name__}: {e}")
+            rows.append(row)
+            if not quiet:
+                print(_progress_line(row, len(rows), len(cases)), flush=True)
+    except KeyboardInterrupt:
+        ended = {r["case"] for r in rows}
+        rows += [_error_row(c, "not run to its end: the sweep was interrupted (SIGINT)")
+                 for c in cases if c["case"] not in ended]
+        return rows, True
+    return rows, False
+
+
+def task_keys(cases):
+    """The cases' Dask keys, this sweep's own: another sweep on the scheduler never shares one."""
+    sweep_id = uuid.uuid4().hex
+    return [f"freespace-case-{sweep_id}-{c['case']}" for c in cases]
 
 
 def run_sweep(cases, workers=2, scheduler=None, quiet=True):
     """Runs every case as a Dask task: on the cluster at `scheduler` (tcp://HOST:PORT), or on a
     local cluster of `workers` processes, one thread each, on the loopback interface. Returns
-    the rows in case order and the timing {"startup_s", "run_s", "workers", ...}; unless
-    `quiet`, prints a line per case as it ends."""
+    the rows in case order and the timing {"startup_s", "run_s", "workers", "interrupted", ...};
+    unless `quiet`, prints a line per case as it ends. The tasks' keys are this sweep's own, so
+    that sweeps sharing a scheduler never share a task."""
     from dask.distributed import Client, LocalCluster
 
     # Worker processes import freespace from where this one did.
@@ -373,28 +244,61 @@ def run_sweep(cases, workers=2, scheduler=None, quiet=True):
     try:
         n_workers = len(client.scheduler_info()["workers"])
         ready = time.perf_counter()
-        futures = client.map(run_case, cases, key=[f"freespace-case-{c['case']}" for c in cases],
-                             pure=False)
-        rows = _collect(futures, cases, quiet)
+        futures = client.map(run_case, cases, key=task_keys(cases), pure=False)
+        rows, interrupted = _collect(futures, cases, quiet)
         done = time.perf_counter()
+        if interrupted:
+            client.cancel(futures)
     finally:
         client.close()
         if cluster is not None:
             cluster.close()
     rows.sort(key=lambda r: r["case"])
     return rows, {"startup_s": ready - started, "run_s": done - ready, "workers": n_workers,
-                  "scheduler": scheduler or "local (127.0.0.1)",
+                  "interrupted": interrupted, "scheduler": scheduler or "local (127.0.0.1)",
                   "load_average_start": load_start, "load_average_end": os.getloadavg()[0]}
 
 
-def write_outputs(out, grid, rows, aggregates, timing):
+OUTPUTS = ("cases.csv", "aggregates.csv", "sweep.json", "tradeoff.png")
+
+
+def prepare_out(out):
+    """Makes the output folder before any case runs and removes an earlier sweep's files from
+    it, so that none of them is left looking like this sweep's; the names of those removed."""
     os.makedirs(out, exist_ok=True)
+    removed = []
+    for name in OUTPUTS:
+        path = os.path.join(out, name)
+        if os.path.isfile(path) or os.path.islink(path):
+            os.remove(path)
+            removed.append(name)
+    return removed
+
+
+def _json_safe(value):
+    """NaN and infinities as null, as the engine's JSON writes them (JSON has no NaN)."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {k: _json_safe(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_safe(v) for v in value]
+    return value
+
+
+def write_outputs(out, grid, rows, aggregates, timing):
+    """The files written: cases.csv, aggregates.csv (with simulated drives), sweep.json."""
+    written = ["cases.csv"]
     _write_csv(os.path.join(out, "cases.csv"), rows)
     if aggregates:
         _write_csv(os.path.join(out, "aggregates.csv"), aggregates)
+        written.append("aggregates.csv")
     with open(os.path.join(out, "sweep.json"), "w") as f:
-        json.dump({"definitions": "docs/metrics.md, docs/python.md", "grid": grid,
-                   "timing": timing, "cases": rows, "aggregates": aggregates}, f, indent=1)
+        json.dump(_json_safe({"definitions": "docs/metrics.md, docs/python.md", "grid": grid,
+                              "timing": timing, "cases": rows, "aggregates": aggregates}),
+                  f, indent=1, allow_nan=False)
+    written.append("sweep.json")
+    return written
 
 
 def parse_args(argv):
@@ -421,15 +325,25 @@ def main(argv=None):
     try:
         grid = load_grid(args.grid)
         cases = make_cases(grid, args.threads_per_task)
+        removed = prepare_out(args.out)
     except (GridError, fs.ConfigError, TypeError, OSError) as e:
         print(f"freespace-sweep: {e}", file=sys.stderr)
         return 2
     if not args.quiet:
+        if removed:
+            print(f"freespace-sweep: removed an earlier sweep's {', '.join(removed)} from "
+                  f"{args.out}", flush=True)
         where = args.scheduler or f"a local cluster of {args.workers} workers"
         print(f"freespace-sweep: {len(cases)} cases on {where}", flush=True)
     rows, timing = run_sweep(cases, args.workers, args.scheduler, args.quiet)
     aggregates = aggregate(rows)
-    write_outputs(args.out, grid, rows, aggregates, timing)
+    written = write_outputs(args.out, grid, rows, aggregates, timing)
+    if timing["interrupted"]:
+        done = sum(not r["error"].startswith("not run to its end") for r in rows)
+        print(f"freespace-sweep: interrupted by SIGINT after {done} of {len(rows)} cases; wrote "
+              f"{', '.join(os.path.join(args.out, w) for w in written)} with the rest marked "
+              "as not run", file=sys.stderr)
+        return 130
     plot = None
     if not args.no_plot and aggregates:
         from freespace.sweep_plot import plot_tradeoff
@@ -447,7 +361,7 @@ def main(argv=None):
                                        "matplotlib is not installed") + ")"
         print(f"freespace-sweep: {len(rows)} cases in {timing['run_s']:.1f} s on "
               f"{timing['workers']} workers (cluster start {timing['startup_s']:.1f} s); wrote "
-              f"{args.out}/cases.csv, aggregates.csv, sweep.json{plotted}")
+              f"{args.out}/{', '.join(written)}{plotted}")
     return 1 if failed else 0
 
 

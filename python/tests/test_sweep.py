@@ -33,9 +33,12 @@ def _lost_task(case):
     raise RuntimeError("worker gone")
 
 
+def not_a_number(v):
+    return v is None or (isinstance(v, float) and math.isnan(v))  # sweep.json: null
+
+
 def same(a, b):
-    return (isinstance(a, float) and isinstance(b, float) and math.isnan(a) and math.isnan(b)) \
-        or a == b
+    return (not_a_number(a) and not_a_number(b)) or a == b
 
 
 class SweepTest(unittest.TestCase):
@@ -93,7 +96,7 @@ class SweepTest(unittest.TestCase):
                                 f"{row[k]} vs {expected[k]}")
         log_rows = [r for r in rows if r["kind"] == "log"]
         self.assertEqual([r["scans"] for r in log_rows], [40, 40])
-        self.assertTrue(all(math.isnan(r["coverage"]) for r in log_rows))  # no truth
+        self.assertTrue(all(r["coverage"] is None for r in log_rows))  # no truth: null
         aggregates = self.result["aggregates"]
         self.assertEqual(len(aggregates), 4)
         for agg in aggregates:
@@ -136,6 +139,79 @@ class SweepTest(unittest.TestCase):
                          [("highway", 5, "")])
         self.assertGreater(rows[0]["scans"], 0)
 
+    def test_an_earlier_sweeps_files_go_and_a_file_in_the_way_is_an_error(self):
+        logs_only = os.path.join(self.dir.name, "logs_only.yaml")
+        with open(logs_only, "w") as f:
+            f.write(f"logs: [{{log: {os.path.join(data_dir(), 'carmen', 'intel.clf')}, "
+                    "max_scans: 5}]\n")
+        out = os.path.join(self.dir.name, "earlier")
+        os.makedirs(out)
+        for name in ("aggregates.csv", "tradeoff.png"):
+            with open(os.path.join(out, name), "w") as f:
+                f.write("an earlier sweep's\n")
+        run = subprocess.run([sys.executable, "-m", "freespace.sweep", logs_only, "--workers", "1",
+                              "--out", out], capture_output=True, text=True)
+        self.assertEqual(run.returncode, 0, run.stderr)
+        self.assertIn("removed an earlier sweep's aggregates.csv, tradeoff.png", run.stdout)
+        self.assertEqual(sorted(os.listdir(out)), ["cases.csv", "sweep.json"])
+        self.assertIn(f"wrote {out}/cases.csv, sweep.json (no plot", run.stdout)
+        in_the_way = os.path.join(self.dir.name, "a_file")
+        with open(in_the_way, "w") as f:
+            f.write("x")
+        run = subprocess.run([sys.executable, "-m", "freespace.sweep", logs_only, "--out",
+                              in_the_way], capture_output=True, text=True)
+        self.assertEqual(run.returncode, 2, run.stderr)
+        self.assertNotIn("cases on", run.stdout)  # refused before any case ran
+
+    def test_ctrl_c_writes_the_ended_cases_and_marks_the_rest(self):
+        from unittest import mock
+
+        cases = sweep.make_cases(sweep.load_grid(self.grid_path))[:3]
+
+        class Task:  # as much of a Dask future as _collect uses
+            def __init__(self, key):
+                self.key = key
+
+            def result(self):
+                return sweep.run_case(cases[0])
+
+        tasks = [Task("k0"), Task("k1"), Task("k2")]
+
+        def interrupted(futures):
+            yield tasks[0]
+            raise KeyboardInterrupt
+
+        with mock.patch("dask.distributed.as_completed", interrupted):
+            rows, stopped = sweep._collect(tasks, cases, quiet=True)
+        self.assertTrue(stopped)
+        self.assertEqual(sorted(r["case"] for r in rows), [0, 1, 2])
+        self.assertEqual(rows[0]["error"], "")
+        for r in rows[1:]:
+            self.assertIn("interrupted", r["error"])
+
+    def test_task_keys_are_each_sweeps_own(self):
+        cases = sweep.make_cases(sweep.load_grid(self.grid_path))
+        a, b = sweep.task_keys(cases), sweep.task_keys(cases)
+        self.assertEqual(len(set(a)), len(cases))
+        self.assertFalse(set(a) & set(b))
+
+    def test_a_logs_malformed_lines_are_counted(self):
+        with open(os.path.join(data_dir(), "carmen", "intel.clf")) as f:
+            lines = f.readlines()
+        cut = os.path.join(self.dir.name, "cut.clf")
+        kept = 0
+        with open(cut, "w") as f:
+            for line in lines:
+                if line.startswith("FLASER") and kept < 3:
+                    line = line[:40] + "\n"  # cut short
+                    kept += 1
+                f.write(line)
+        case = dict(sweep.make_cases(sweep.load_grid(self.grid_path))[-1], log=cut, max_scans=20)
+        row = sweep.run_case(case)
+        self.assertEqual(row["error"], "")
+        self.assertEqual(row["malformed_lines"], 3)
+        self.assertEqual(row["scans"], 20)
+
     def test_a_task_lost_on_the_cluster_is_a_row_with_its_error(self):
         from dask.distributed import Client, LocalCluster
 
@@ -145,7 +221,8 @@ class SweepTest(unittest.TestCase):
         with LocalCluster(n_workers=1, processes=False, dashboard_address="127.0.0.1:0") as \
                 cluster, Client(cluster) as client:
             futures = client.map(_lost_task, cases, pure=False)
-            rows = sweep._collect(futures, cases, quiet=True)
+            rows, interrupted = sweep._collect(futures, cases, quiet=True)
+        self.assertFalse(interrupted)
         self.assertEqual(sorted(r["case"] for r in rows), [0, 1])
         for r in rows:
             self.assertIn("task failed on the cluster: RuntimeError: worker gone", r["error"])
@@ -184,6 +261,22 @@ class GridFileTest(unittest.TestCase):
         for bad in ("1-", "1-2,2", "1-5,5-10", [1, 1], [1, True], "a", "007"):
             with self.assertRaises(sweep.GridError, msg=repr(bad)):
                 sweep.parse_seeds(bad)
+
+    def test_values_the_sweep_cannot_mean_are_errors(self):
+        for text in ("scenarios: [urban]\nduration_s: abc\n",
+                     "scenarios: [urban]\nduration_s: -1\n",
+                     "scenarios: [urban]\nseeds: -3\n",
+                     "scenarios: [urban]\ngrid: [1, 2]\n",
+                     "scenarios: [urban]\noverrides: [1, 2]\n",
+                     "scenarios: [urban]\ngrid: {polygon.margin_cells: [1, 1]}\n"):
+            with self.assertRaises(sweep.GridError, msg=text) as caught:
+                self.grid(text)
+            key = text.split("\n")[1].split(":")[0]
+            self.assertIn(key, str(caught.exception))
+
+    def test_sweep_json_has_no_nan(self):
+        self.assertEqual(sweep._json_safe({"a": [math.nan, 1.0, math.inf], "b": "x"}),
+                         {"a": [None, 1.0, None], "b": "x"})
 
     def test_threads_and_fractional_scans_are_errors(self):
         for text in ("scenarios: [urban]\ngrid: {backend.threads: [1, 2]}\n",
