@@ -40,7 +40,9 @@ tail -2 "$out/consumer.out" | head -1 | grep -q "^scan 24: ok, [0-9]* vertices$"
   || fail "last scan: $(tail -2 "$out/consumer.out" | head -1)"
 grep -q "^map 300 x 300 at 0.2 m$" "$out/consumer.out" || fail "map line: $(tail -1 "$out/consumer.out")"
 
-# The baselines library under the name the docs and its own messages give (freespace::baselines).
+# The baselines library under the name the docs and its own messages give (freespace::baselines),
+# from a consumer that asks for C++14: the package's targets bring the C++17 its headers need
+# (warnings as errors: C++14 only warns about inline variables).
 mkdir -p "$out/baselines-src"
 cat >"$out/baselines-src/CMakeLists.txt" <<'CMAKE'
 cmake_minimum_required(VERSION 3.20)
@@ -54,7 +56,7 @@ cat >"$out/baselines-src/main.cpp" <<'CPP'
 int main() { freespace::RegisterBaselines(); }
 CPP
 "$cmake" -S "$out/baselines-src" -B "$out/baselines" -DCMAKE_PREFIX_PATH="$prefix" \
-  -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -Dfreespace_DIR="$(dirname "$config")" \
+  -DCMAKE_CXX_STANDARD=14 -DCMAKE_CXX_FLAGS=-Werror -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -Dfreespace_DIR="$(dirname "$config")" \
   >"$out/baselines.log" 2>&1 || fail "freespace::baselines not found: $(tail -20 "$out/baselines.log")"
 "$cmake" --build "$out/baselines" >>"$out/baselines.log" 2>&1 &&
   "$out/baselines/baselines_consumer" || fail "freespace::baselines consumer: $(tail -20 "$out/baselines.log")"

@@ -232,7 +232,9 @@ TEST(InsidePolygon, CoversMaskCellsOnlyOnRandomMasks) {
     if (!in.built) {
       EXPECT_TRUE(in.polygon.empty()) << where;
       // Collapsed: the mask held space around the sensor (a ring), but no N-gon in it.
-      if (in.builder.collapsed()) EXPECT_GE(in.builder.ring().size(), 3u) << where;
+      if (in.builder.collapsed()) {
+        EXPECT_GE(in.builder.ring().size(), 3u) << where;
+      }
       continue;
     }
     ASSERT_GE(in.polygon.size(), 3u) << where;

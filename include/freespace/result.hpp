@@ -79,9 +79,11 @@ struct Result {
   RejectReason reject_reason = RejectReason::kNone;
   std::string message;            // why a scan was rejected or not used, and what was odd about
                                   // it (clock jitter, a stall), joined by "; "; else empty
-  bool map_reset = false;         // the map was (re)started at this scan (first scan, or a jump)
+  bool map_reset = false;         // the map was (re)started at this scan (first scan, pose
+                                  // jumps, or a clock that stayed behind: docs/behaviour.md)
   bool timestamp_jitter = false;  // timestamp not after the latest accepted one, but within
-                                  // alignment.time_jitter_s: used without a speed sample
+                                  // alignment.time_jitter_s: used (the newest scan of the call
+                                  // without a speed sample); `message` names it
   bool clock_stalled = false;     // the timestamps have stopped advancing (3 scans or more with
                                   // one time): used without a jump test or a speed sample
   bool stall_detected = false;    // this scan found the stall; `message` says so
@@ -133,9 +135,10 @@ struct Result {
   // in the order fused (the rig's order). One entry for a single sensor.
   std::vector<int> cycle_sensors;
   std::vector<Pose2D> cycle_sensor_poses;
-  // A rig's accepted cycle: the rig's sensors that added nothing to the map, in the rig's order:
-  // no scan of theirs in the cycle, or a scan without a usable echo (empty, or every beam without
-  // echo); `message` names them. Empty for a single sensor, whose status says so.
+  // A rig's accepted cycle (a `sensors` list, one entry too): the rig's sensors that added
+  // nothing to the map, in the rig's order: no scan of theirs in the cycle, or a scan without a
+  // usable echo (empty, or every beam without echo); `message` names them. Empty for a single
+  // `sensor`, whose status says so.
   std::vector<int> cycle_silent_sensors;
 };
 

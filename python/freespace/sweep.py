@@ -45,6 +45,8 @@ METRICS = ("accuracy", "false_free_rate", "intrusion_m2", "intrusion_moving_m2",
            "intrusion_mask_m2", "intrusion_geometric_m2", "coverage", "coverage_seen")
 STAGES = ("preprocess", "align", "rasterize", "fuse", "classify", "mask", "insight", "polygon",
           "total")
+
+
 def _row(case, drive_metrics, stage_us, scans, rejected, started, malformed=0):
     row = {"case": case["case"], "kind": case["kind"], "scenario": case.get("scenario", ""),
            "seed": case.get("seed", ""), "log": case.get("log", "")}

@@ -3,7 +3,6 @@ the cases it makes. See freespace.sweep for the file's keys."""
 
 import collections
 import itertools
-import json
 import numbers
 import os
 
@@ -72,7 +71,7 @@ def load_grid(path):
         return p if os.path.isabs(p) else os.path.normpath(os.path.join(here, p))
 
     for key in ("overrides", "grid"):
-        if not isinstance(grid.get(key) or {}, dict):
+        if grid.get(key) is not None and not isinstance(grid[key], dict):
             raise GridError(f"{path}: {key} must be a mapping of config fields (field: value"
                             f"{', or field: [values]' if key == 'grid' else ''}); got "
                             f"{grid[key]!r}")
@@ -106,10 +105,9 @@ def load_grid(path):
     for key, values in out["grid"].items():
         if not isinstance(values, list) or not values:
             raise GridError(f"{path}: grid.{key} must be a non-empty list of values")
-        texts = [json.dumps(v, sort_keys=True) for v in values]
-        repeated = sorted({t for t in texts if texts.count(t) > 1})
+        repeated = [v for i, v in enumerate(values) if v in values[:i]]  # 1 and 1.0 alike
         if repeated:
-            raise GridError(f"{path}: grid.{key}: {', '.join(repeated)} given more than once (its "
+            raise GridError(f"{path}: grid.{key}: {repeated[0]!r} given more than once (its "
                             "drives would count twice in a mean)")
     for key, value in list(out["grid"].items()) + list(out["overrides"].items()):
         values = value if isinstance(value, list) else [value]  # a grid axis: its values

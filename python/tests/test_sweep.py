@@ -268,6 +268,8 @@ class GridFileTest(unittest.TestCase):
                      "scenarios: [urban]\nseeds: -3\n",
                      "scenarios: [urban]\ngrid: [1, 2]\n",
                      "scenarios: [urban]\noverrides: [1, 2]\n",
+                     "scenarios: [urban]\ngrid: []\n",
+                     "scenarios: [urban]\ngrid: {polygon.margin_cells: [1, 1.0]}\n",
                      "scenarios: [urban]\ngrid: {polygon.margin_cells: [1, 1]}\n"):
             with self.assertRaises(sweep.GridError, msg=text) as caught:
                 self.grid(text)

@@ -209,12 +209,13 @@ class LogRun {
       const bool more = cycles_->Next(&cycle);
       if (ReportIssues()) return kExitBadInput;
       if (!more) break;
-      if (options_.max_scans > 0 && tally_.scans_read + long(cycle.size()) > options_.max_scans)
-        cycle.resize(std::size_t(options_.max_scans - tally_.scans_read));
+      const bool cut =
+          options_.max_scans > 0 && tally_.scans_read + long(cycle.size()) > options_.max_scans;
+      if (cut) cycle.resize(std::size_t(options_.max_scans - tally_.scans_read));
       tally_.scans_read += long(cycle.size());
       tally_.cycles_read += tally_.rig() ? 1 : 0;
       const Result& r = estimator_->ProcessCycle(cycle);
-      const Verdict verdict = Check(r, cycle, Where(r));
+      const Verdict verdict = Check(r, cycle, Where(r), cut);
       if (verdict == Verdict::kStop) return kExitBadInput;
       if (verdict == Verdict::kSkip) continue;
       Keep(r, long(cycle.size()));
@@ -260,8 +261,9 @@ class LogRun {
     return false;
   }
 
-  // Counts and warns about what went wrong with one call's input (a scan, a rig's cycle).
-  Verdict Check(const Result& r, const std::vector<Scan>& cycle, const std::string& at) {
+  // Counts and warns about what went wrong with one call's input (a scan, a rig's cycle; `cut`
+  // short by --max-scans).
+  Verdict Check(const Result& r, const std::vector<Scan>& cycle, const std::string& at, bool cut) {
     const ScanStats& st = r.stats;
     tally_.AddPoints(st);
     if (st.invalid_range + st.out_of_aperture + st.bad_layer > 0) {
@@ -278,9 +280,10 @@ class LogRun {
       return StopsHere("bad input") ? Verdict::kStop : Verdict::kSkip;
     }
     // A scan (of a rig: any sensor's) that added nothing, or a rig's sensor without a scan.
-    const long silent = tally_.AddSilent(r, cycle);
-    if (silent > 0 || !r.cycle_silent_sensors.empty()) {
-      warnings_.Print(silent > 0 ? "no_sensor_update" : "sensor_missing", at + ": " + r.message);
+    const RunTally::Silent silent = tally_.AddSilent(r, cycle, cut);
+    if (silent.scans + silent.missing > 0) {
+      warnings_.Print(silent.scans > 0 ? "no_sensor_update" : "sensor_missing",
+                      at + ": " + r.message);
       const bool empty = std::any_of(cycle.begin(), cycle.end(),
                                      [](const Scan& scan) { return scan.points.empty(); });
       if (empty && StopsHere("an empty scan")) return Verdict::kStop;
@@ -337,10 +340,11 @@ class LogRun {
     if (options_.quiet || now - last_progress_ <= std::chrono::seconds(tty_ ? 1 : 10)) return;
     last_progress_ = now;
     char line[200];
-    std::snprintf(
-        line, sizeof line, "%s%3.0f%%  scan %ld  processed %ld  skipped %ld  median %.3f ms/scan",
-        tty_ ? "\r" : "", 100.0 * reader_->progress(), tally_.scans_read, tally_.processed,
-        tally_.scans_read - tally_.processed, tally_.times.MedianTotal() / 1000.0);
+    std::snprintf(line, sizeof line,
+                  "%s%3.0f%%  scan %ld  processed %ld  skipped %ld  median %.3f ms/%s",
+                  tty_ ? "\r" : "", 100.0 * reader_->progress(), tally_.scans_read,
+                  tally_.processed, tally_.scans_read - tally_.processed,
+                  tally_.times.MedianTotal() / 1000.0, tally_.rig() ? "cycle" : "scan");
     std::cerr << line << (tty_ ? "" : "\n") << std::flush;
   }
 
@@ -369,7 +373,7 @@ class LogRun {
     std::cerr << (tty_ ? "\r" : "") << "freespace run: " << t.processed << " scans"
               << (t.rig() ? " in " + std::to_string(t.calls) + " cycles" : std::string())
               << " processed, " << skipped << " skipped, median " << t.times.MedianTotal() / 1000.0
-              << " ms/scan; wrote " << options_.out << "/"
+              << (t.rig() ? " ms/cycle" : " ms/scan") << "; wrote " << options_.out << "/"
               << PolygonFileName(options_.polygon_format) << ", summary.json and " << t.snapshots
               << " PNG(s)\n";
   }

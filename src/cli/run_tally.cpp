@@ -14,25 +14,26 @@ void RunTally::AddPoints(const ScanStats& st) {
   virtual_points += st.virtual_points;
 }
 
-long RunTally::AddSilent(const Result& r, const std::vector<Scan>& cycle) {
+RunTally::Silent RunTally::AddSilent(const Result& r, const std::vector<Scan>& cycle, bool cut) {
+  Silent silent;
   if (!rig()) {
-    const long silent = r.status == ScanStatus::kNoSensorUpdate ? 1 : 0;
-    no_update += silent;
+    silent.scans = r.status == ScanStatus::kNoSensorUpdate ? 1 : 0;
+    no_update += silent.scans;
     return silent;
   }
-  long silent = 0;
   for (const int s : r.cycle_silent_sensors) {
     if (s < 0 || std::size_t(s) >= sensors.size()) continue;
     const bool scanned =
         std::any_of(cycle.begin(), cycle.end(), [&](const Scan& scan) { return scan.sensor == s; });
     if (scanned) {
       ++sensors[std::size_t(s)].no_update;
-      ++silent;
-    } else {
+      ++silent.scans;
+    } else if (!cut) {
       ++sensors[std::size_t(s)].missing;
+      ++silent.missing;
     }
   }
-  no_update += silent;
+  no_update += silent.scans;
   return silent;
 }
 

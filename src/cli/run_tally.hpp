@@ -40,9 +40,13 @@ struct RunTally {
 
   bool rig() const { return !sensors.empty(); }
   void AddPoints(const ScanStats& st);
-  // A call's scans that added nothing (Result::cycle_silent_sensors; one sensor: its status);
-  // the number of those scans.
-  long AddSilent(const Result& r, const std::vector<Scan>& cycle);
+  // A call's scans that added nothing and a rig's sensors without a scan in it
+  // (Result::cycle_silent_sensors; one sensor: its status). A cycle `cut` short by --max-scans
+  // misses its dropped sensors by that cut: none counts as missing.
+  struct Silent {
+    long scans = 0, missing = 0;
+  };
+  Silent AddSilent(const Result& r, const std::vector<Scan>& cycle, bool cut);
   void AddRejected(const Result& r, long scans);
   void AddProcessed(const Result& r, long scans);
   long Rejected() const;

@@ -75,10 +75,14 @@ AlignStep CircleAligner::Align(double t, const Pose2D& sensor) {
   if (!(dt > 0.0) && !(-dt <= config_.time_jitter_s)) {
     // A clock that stays behind (one scan stamped far ahead was accepted, or the log joins two
     // drives): after reset_after_jumps such scans in a row, each later than the one before, the
-    // map restarts at the last, as after repeated pose jumps.
-    behind_ = behind_ > 0 && t > behind_t_ ? behind_ + 1 : 1;
+    // map restarts at the last, as after repeated pose jumps; but not while the clock would
+    // catch up sooner than it has been behind (a scan stamped a second or two ahead).
+    const bool run = behind_ > 0 && t > behind_t_;
+    behind_ = run ? behind_ + 1 : 1;
+    behind_since_ = run ? behind_since_ : t;
     behind_t_ = t;
-    if (behind_ < config_.reset_after_jumps) {
+    const double to_catch_up = last_t_ - config_.time_jitter_s - t, been = t - behind_since_;
+    if (behind_ < config_.reset_after_jumps || !(to_catch_up > been)) {
       step.reason = RejectReason::kTimestampNotIncreasing;
       return step;
     }

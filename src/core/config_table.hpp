@@ -5,8 +5,6 @@
 
 #include <charconv>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <map>
 #include <set>
@@ -77,11 +75,14 @@ struct Spec {
 inline std::string Format(int v) { return std::to_string(v); }
 // Six significant digits where they read back as v, else the shortest text that does: a
 // refused 180.0000001 is not shown as 180.
+// Locale-free (std::to_chars), as docs and messages must be in any embedding process.
 inline std::string Format(double v) {
   char text[32];
-  std::snprintf(text, sizeof text, "%g", v);
-  if (std::strtod(text, nullptr) == v || v != v) return text;
-  const std::to_chars_result r = std::to_chars(text, text + sizeof text, v);
+  std::to_chars_result r =
+      std::to_chars(text, text + sizeof text, v, std::chars_format::general, 6);
+  double back = 0.0;
+  std::from_chars(text, r.ptr, back);
+  if (back != v && v == v) r = std::to_chars(text, text + sizeof text, v);
   return std::string(text, r.ptr);
 }
 inline std::string Format(bool v) { return v ? "true" : "false"; }
@@ -179,8 +180,8 @@ void VisitAlignment(C& a, Visitor& v) {
   v("jump_slack_m", a.jump_slack_m, {"m", AtLeast(0), "allowed extra displacement per scan"});
   v("reset_after_jumps", a.reset_after_jumps,
     {"scans", AtLeast(1),
-     "pose jumps in a row (or scans in a row behind the clock, each later than the one before) "
-     "after which the map restarts at the last"});
+     "pose jumps in a row (or scans in a row far behind the clock, each later than the one "
+     "before: docs/behaviour.md) after which the map restarts at the last"});
   v("time_jitter_s", a.time_jitter_s,
     {"s", AtLeast(0), "a timestamp this much before the last is jitter: no speed sample"});
   v("scan_match", a.scan_match,

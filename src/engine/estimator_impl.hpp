@@ -116,6 +116,7 @@ class Estimator::Impl {
   bool CheckCycleSpread(const Scan* scans, int newest);
   bool PreprocessCycle(const Scan* scans);
   void NoteSilentSensors(const Scan* scans);
+  void NoteCycleJitter(const Scan* scans, int count, int newest, double previous);
   void UpdateMapCycle(const Scan* scans);
   void FuseFootprint();
 

@@ -29,8 +29,8 @@ class PolygonExtractor {
   // nothing around the sensor is free. `error`: the simplification error in cells.
   virtual bool Extract(const std::vector<CellIndex>& edges, const Vec2& sensor,
                        std::vector<Vec2>* polygon, double* error) = 0;
-  // The last Extract() returned false though space around the sensor is free: no polygon of
-  // polygon.max_vertices vertices fits in it.
+  // The last Extract() returned false though space around the sensor is free: the simplified
+  // polygon, pulled inside it, collapsed (most often with a very small polygon.max_vertices).
   virtual bool too_few_vertices() const { return false; }
 };
 

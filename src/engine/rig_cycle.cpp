@@ -102,18 +102,17 @@ bool Estimator::Impl::CheckCycle(const Scan* scans, int count) {
 
 // Every scan no earlier than the latest accepted time less alignment.time_jitter_s, as Process()
 // takes a scan: the alignment sees the cycle's newest scan only, and an older one of another
-// sensor would otherwise be fused however stale. A scan other than the newest at or before that
-// time, within the jitter, is clock jitter as in Process() (the alignment reports the newest).
+// sensor would otherwise be fused however stale.
 bool Estimator::Impl::CheckCycleTimes(const Scan* scans, int count, int newest) {
   if (!circle_.started()) return true;
   const double previous = circle_.last_timestamp(), jitter = config_.alignment.time_jitter_s;
   // The whole cycle behind: the alignment judges its newest scan (and restarts the map when the
   // clock stays behind).
   if (scans[newest].timestamp_s - previous < -jitter) return true;
-  char text[240];
   for (int i = 0; i < count; ++i) {
     const Scan& scan = scans[i];
     if (scan.timestamp_s - previous >= -jitter) continue;
+    char text[240];
     std::snprintf(text, sizeof text,
                   "the scan of sensor %d (%s) at %.6f s is %.3f s before the latest accepted "
                   "scan's %.6f s (more than alignment.time_jitter_s %.3f s)",
@@ -122,18 +121,27 @@ bool Estimator::Impl::CheckCycleTimes(const Scan* scans, int count, int newest) 
     Reject(RejectReason::kTimestampNotIncreasing, text);
     return false;
   }
+  return true;
+}
+
+// After an accepted alignment: a scan other than the newest at or before the time the latest
+// accepted scan had (`previous`), within the jitter, is clock jitter as in Process() (the
+// alignment reports the newest); not while the clock stalls, which repeats one time.
+void Estimator::Impl::NoteCycleJitter(const Scan* scans, int count, int newest, double previous) {
+  Result& r = result_;
+  if (r.map_reset || r.clock_stalled) return;
   for (int i = 0; i < count; ++i) {
     const Scan& scan = scans[i];
     if (i == newest || scan.timestamp_s > previous) continue;
-    result_.timestamp_jitter = true;
+    r.timestamp_jitter = true;
+    char text[240];
     std::snprintf(text, sizeof text,
                   "the scan of sensor %d (%s) at %.6f s is not after the latest accepted scan's "
                   "%.6f s: clock jitter, used",
                   scan.sensor, config_.sensors[scan.sensor].name.c_str(), scan.timestamp_s,
                   previous);
-    AddMessage(&result_, text);
+    AddMessage(&r, text);
   }
-  return true;
 }
 
 // Every scan's sensor within reach of the reference point: no farther from it than its mount
@@ -392,7 +400,9 @@ const Result& Estimator::Impl::ProcessCycle(const Scan* scans, int count) {
   const bool has_update = PreprocessCycle(scans);
   const Clock::time_point t_pre = Clock::now();
   r.times.preprocess_us = Micros(t_begin, t_pre);
+  const double previous = circle_.last_timestamp();
   if (!Align(scans[newest])) return finish();
+  NoteCycleJitter(scans, count, newest, previous);
   const Clock::time_point t_align = Clock::now();
   r.times.align_us = Micros(t_pre, t_align);
 

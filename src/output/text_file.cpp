@@ -53,6 +53,7 @@ void TextFile::Write(std::string_view text) {
 }
 
 void TextFile::Close() {
+  if (failed_) throw OutputError(path_ + ": an earlier write failed");
   if (!out_.is_open()) return;
   errno = 0;
   out_.flush();
@@ -65,6 +66,7 @@ void TextFile::Fail(const char* what) const { throw StreamError(path_, what); }
 
 void TextFile::FailWhole(const char* what) {
   const OutputError error = StreamError(path_, what);  // errno before the cut
+  failed_ = true;
   out_.close();
   CutToLastLine(path_);
   throw error;

@@ -34,7 +34,8 @@ struct AlignStep {
                                   // with one timestamp): no jump test, no speed sample
   bool stall_detected = false;    // this scan is the one that found the stall
   bool clock_restart = false;     // the map restarts here: the clock stayed behind the latest
-                                  // accepted time for reset_after_jumps scans in a row
+                                  // accepted time for reset_after_jumps scans in a row, and
+                                  // would take longer to catch up than it has been behind
 };
 
 // Scans in a row stamped with the same time after which the clock counts as stalled (logs whose
@@ -83,8 +84,8 @@ class CircleAligner {
   int speed_next_ = 0;
   int jumps_ = 0;
   int repeats_ = 0;  // scans in a row (accepted or not) stamped last_t_ after the one that was
-  int behind_ = 0;   // consecutive_behind(), and the last of those scans' time
-  double behind_t_ = 0.0;
+  int behind_ = 0;   // consecutive_behind(), the first and the last of those scans' times
+  double behind_since_ = 0.0, behind_t_ = 0.0;
 };
 
 // Angle wrapped to (-pi, pi].

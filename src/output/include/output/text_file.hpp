@@ -29,6 +29,7 @@ class TextFile {
 
   std::string path_;
   std::ofstream out_;
+  bool failed_ = false;  // a write failed: Close() says so again
 };
 
 // Writes `text` to `path` as a whole (create, write, close), each step checked; a failed write
