@@ -77,8 +77,6 @@ def _run_log(case, config, started):
     scorer = fs.TruthScorer(fs.read_truth(case["truth"])) if case["truth"] else None
     metrics, times = fs.MetricsSeries(), fs.StageSeries()
     scans = rejected = 0
-    # The reader's skipped lines, counted as `freespace run` counts them (its notes are not).
-    malformed = sum(not i.startswith("note: ") for i in reader.issues())
     for scan in reader:
         r = est.process(scan)
         scans += 1
@@ -88,10 +86,10 @@ def _run_log(case, config, started):
             times.add(r)
             if scorer:
                 metrics.add(scorer.score(est.map(), r))
-        malformed += sum(not i.startswith("note: ") for i in reader.issues())
         if case["max_scans"] and scans == case["max_scans"]:
             break
-    malformed += sum(not i.startswith("note: ") for i in reader.issues())
+    # The reader's skipped lines so far, counted as `freespace run` counts them (not its notes).
+    malformed = sum(not i.startswith("note: ") for i in reader.issues())
     means = {}
     if scorer:
         summary = metrics.summary()

@@ -73,9 +73,8 @@ struct Spec {
 };
 
 inline std::string Format(int v) { return std::to_string(v); }
-// Six significant digits where they read back as v, else the shortest text that does: a
-// refused 180.0000001 is not shown as 180.
-// Locale-free (std::to_chars), as docs and messages must be in any embedding process.
+// Six significant digits where they read back as v, else the shortest text that does (a refused
+// 180.0000001 is not shown as 180); std::to_chars, free of the embedding process's locale.
 inline std::string Format(double v) {
   char text[32];
   std::to_chars_result r =
