@@ -324,7 +324,7 @@ void ValidateRig(const Config& c) {
     if (s.name.empty()) throw ConfigError("config: " + label + ".name is empty: name each sensor");
     CheckSensorName(label, s.name);
     if (!names.insert(s.name).second) {
-      throw ConfigError("config: " + label + ".name = \"" + s.name +
+      throw ConfigError("config: " + label + ".name = \"" + io::Excerpt(s.name, 40) +
                         "\": two sensors of the rig have this name");
     }
     Config one = c;
