@@ -206,5 +206,8 @@ printf 'sensor:\n  layers: 4\n' >"$out/sensor.yaml"
 expect 2 sensor-set-rig "$bin" eval --seeds 1 --rig surround --config "$out/sensor.yaml" \
   --set sensor.max_range_m=50 --duration 0.1 --out "$out/x"
 names sensor-set-rig "the scanners of --rig surround are the sensors of its drives"
+expect 2 demo-sensor-set-rig "$bin" demo --rig surround --config "$out/sensor.yaml" \
+  --set sensor.max_range_m=50 --duration 0.1 --out "$out/x"
+names demo-sensor-set-rig "the scanners of --rig surround are the sensors of its drive"
 
 echo "errors_cli: all cases passed"

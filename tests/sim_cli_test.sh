@@ -272,6 +272,15 @@ for field in ("footprint_length_m: 4.7", "shape: inside", "margin_cells: 1"):
         sys.exit("no '%s' in:\n%s" % (field, config))
 open(sys.argv[1] + "/eval-rig/config.yaml", "w").write(config)
 PY
+# demo --rig takes the road setup's config as eval --seeds does: the rig's own sensors, the
+# config's other sections.
+"$bin" demo --scenario parking --rig surround --duration 0.3 \
+  --config "$src/configs/scala.yaml" --out "$out/demo-rig" >"$out/demo-rig.txt" 2>&1 ||
+  fail "demo --rig surround --config scala.yaml failed: $(cat "$out/demo-rig.txt")"
+[ "$(grep -c '^  - name: ' "$out/demo-rig/config.yaml")" -eq 4 ] ||
+  fail "demo --rig surround's config.yaml has not the rig's four sensors"
+grep -q '^  shape: inside' "$out/demo-rig/config.yaml" ||
+  fail "demo --rig surround's config.yaml lost the config's polygon section"
 "$bin" simulate --rig surround --scenario parking --seed 1 --duration 0.5 --out "$out/sim-rig" \
   >/dev/null 2>&1 || fail "simulate --rig surround failed"
 "$bin" eval --log "$out/sim-rig/sim.fslog" --truth "$out/sim-rig/truth.json" --quiet \

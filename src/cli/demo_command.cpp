@@ -23,6 +23,7 @@
 #include "output_options.hpp"
 #include "quality_report.hpp"
 #include "seed_runs.hpp"
+#include "sim/rig.hpp"
 #include "sim_options.hpp"
 
 namespace freespace::cli {
@@ -121,13 +122,7 @@ class DemoRun {
       simulation_ = std::make_unique<sim::Simulation>(MakeSimulationOptions(options_.sim));
       MakeDirectories(options_.out);
       writer_ = std::make_unique<sim::SimulationWriter>(options_.out, truth());
-      const LogSensors sensors{sim::EngineSensors(truth().rig), truth().rig.vehicle};
-      config_ = LoadEngineConfig(options_.engine, sensors, RoadConfig());
-      if (config_.sensor_count() != int(truth().rig.scanners.size())) {
-        throw ConfigError("config: the drive's rig '" + truth().rig.name + "' has " +
-                          std::to_string(truth().rig.scanners.size()) + " scanners, the config " +
-                          std::to_string(config_.sensor_count()) + " sensors");
-      }
+      config_ = DriveConfig();
       estimator_ = std::make_unique<Estimator>(config_);
       WriteTextFile(options_.out + "/config.yaml", config_.ToYaml());
       polygons_ = std::make_unique<TextFile>(options_.out + "/polygons.jsonl");
@@ -140,6 +135,20 @@ class DemoRun {
   }
 
   const sim::Truth& truth() const { return simulation_->truth(); }
+
+  // The engine's config for the drive: the config file and --set over the road setup, with the
+  // drive's scanner unless the config has a sensor section. A rig of several scanners always
+  // brings its own sensors (as eval --seeds does), so --set sensor.* is refused with it.
+  Config DriveConfig() const {
+    const sim::Rig& rig = truth().rig;
+    const LogSensors sensors{sim::EngineSensors(rig), rig.vehicle};
+    if (!rig.several()) return LoadEngineConfig(options_.engine, sensors, RoadConfig());
+    RefuseSensorSettings(options_.engine,
+                         "the scanners of --rig " + rig.name + " are the sensors of its drive");
+    Config config = sim::WithRig(LoadEngineConfig(options_.engine, sensors, RoadConfig()), rig);
+    config.Validate();
+    return config;
+  }
 
   void PrintSetup() const {
     const sim::Scenario& scenario = simulation_->scenario();
