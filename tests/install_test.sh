@@ -40,6 +40,13 @@ tail -2 "$out/consumer.out" | head -1 | grep -q "^scan 24: ok, [0-9]* vertices$"
   || fail "last scan: $(tail -2 "$out/consumer.out" | head -1)"
 grep -q "^map 300 x 300 at 0.2 m$" "$out/consumer.out" || fail "map line: $(tail -1 "$out/consumer.out")"
 
+# The engine alone does not need OpenCV: the consumer configures with OpenCV out of reach.
+"$cmake" -S "$src/examples/consumer" -B "$out/consumer-no-opencv" -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF \
+  -DCMAKE_DISABLE_FIND_PACKAGE_OpenCV=ON -Dfreespace_DIR="$(dirname "$config")" \
+  >"$out/configure-no-opencv.log" 2>&1 ||
+  fail "find_package(freespace) without OpenCV failed: $(tail -20 "$out/configure-no-opencv.log")"
+
 # The baselines library under the name the docs and its own messages give (freespace::baselines),
 # from a consumer that asks for C++14: the package's targets bring the C++17 its headers need
 # (warnings as errors: C++14 only warns about inline variables).
@@ -47,7 +54,7 @@ mkdir -p "$out/baselines-src"
 cat >"$out/baselines-src/CMakeLists.txt" <<'CMAKE'
 cmake_minimum_required(VERSION 3.20)
 project(baselines_consumer LANGUAGES CXX)
-find_package(freespace REQUIRED)
+find_package(freespace REQUIRED COMPONENTS baselines)
 add_executable(baselines_consumer main.cpp)
 target_link_libraries(baselines_consumer PRIVATE freespace::baselines)
 CMAKE
@@ -60,4 +67,12 @@ CPP
   >"$out/baselines.log" 2>&1 || fail "freespace::baselines not found: $(tail -20 "$out/baselines.log")"
 "$cmake" --build "$out/baselines" >>"$out/baselines.log" 2>&1 &&
   "$out/baselines/baselines_consumer" || fail "freespace::baselines consumer: $(tail -20 "$out/baselines.log")"
+# Asked for without OpenCV, the component fails to configure and says why.
+"$cmake" -S "$out/baselines-src" -B "$out/baselines-no-opencv" -DCMAKE_PREFIX_PATH="$prefix" \
+  -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -DCMAKE_DISABLE_FIND_PACKAGE_OpenCV=ON \
+  -Dfreespace_DIR="$(dirname "$config")" >"$out/baselines-no-opencv.log" 2>&1 &&
+  fail "find_package(freespace COMPONENTS baselines) without OpenCV configured"
+grep -q "the component baselines (freespace::baselines) needs OpenCV" \
+  "$out/baselines-no-opencv.log" ||
+  fail "no reason for the missing component: $(tail -20 "$out/baselines-no-opencv.log")"
 echo "install + consumer ok: $(tail -2 "$out/consumer.out" | head -1)"

@@ -1,5 +1,6 @@
 // The paper's comparison baselines that need OpenCV, in their own library
-// (freespace::baselines): today the rotated, vehicle-centred map of alignment.kind rotate.
+// (freespace::baselines, find_package(freespace COMPONENTS baselines)): today the rotated,
+// vehicle-centred map of alignment.kind rotate.
 #pragma once
 
 namespace freespace {
