@@ -159,14 +159,31 @@ def _setting_of(row):
     return {k: v for k, v in row.items() if k not in _ROW_FIXED}
 
 
+def _write_whole(path, write, newline=None):
+    """Writes a file through write(f) under a temporary name, then renames it: the file is
+    whole or absent (a failed write removes the temporary file and raises)."""
+    temporary = path + ".part"
+    try:
+        with open(temporary, "w", newline=newline) as f:
+            write(f)
+        os.replace(temporary, path)
+    except BaseException:
+        if os.path.exists(temporary):
+            os.remove(temporary)
+        raise
+
+
 def _write_csv(path, rows):
     columns = []
     for row in rows:
         columns += [k for k in row if k not in columns]
-    with open(path, "w", newline="") as f:
+
+    def write(f):
         writer = csv.DictWriter(f, fieldnames=columns)
         writer.writeheader()
         writer.writerows(rows)
+
+    _write_whole(path, write, newline="")
 
 
 def _progress_line(row, done, total):
@@ -212,6 +229,17 @@ def _collect(futures, cases, quiet):
     return rows, False
 
 
+class ClusterError(Exception):
+    """The scheduler could not be reached, or the local cluster did not start."""
+
+
+def _close(client, cluster):
+    if client is not None:
+        client.close()
+    if cluster is not None:
+        cluster.close()
+
+
 def task_keys(cases):
     """The cases' Dask keys, this sweep's own: another sweep on the scheduler never shares one."""
     sweep_id = uuid.uuid4().hex
@@ -232,15 +260,29 @@ def run_sweep(cases, workers=2, scheduler=None, quiet=True):
     os.environ["PYTHONPATH"] = os.pathsep.join(dict.fromkeys(paths))
     load_start = os.getloadavg()[0]
     started = time.perf_counter()
-    cluster = None
-    if scheduler:
-        client = Client(scheduler)
-    else:
-        # Every socket of the cluster on the loopback interface, the HTTP servers on free ports.
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               host="127.0.0.1", dashboard_address="127.0.0.1:0",
-                               worker_dashboard_address="127.0.0.1:0")
-        client = Client(cluster)
+    cluster = client = None
+    try:
+        if scheduler:
+            client = Client(scheduler)
+        else:
+            # Every socket of the cluster on the loopback interface, the HTTP servers on free
+            # ports.
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                                   worker_dashboard_address="127.0.0.1:0")
+            client = Client(cluster)
+    except KeyboardInterrupt:  # Ctrl-C while the cluster starts: no case ran
+        _close(client, cluster)
+        rows = [_error_row(c, "not run: the sweep was interrupted (SIGINT) before it started")
+                for c in cases]
+        return rows, {"startup_s": time.perf_counter() - started, "run_s": 0.0, "workers": 0,
+                      "interrupted": True, "scheduler": scheduler or "local (127.0.0.1)",
+                      "load_average_start": load_start, "load_average_end": os.getloadavg()[0]}
+    except (OSError, TimeoutError) as e:
+        _close(client, cluster)
+        where = f"cannot reach the scheduler {scheduler}" if scheduler else \
+            "the local cluster did not start"
+        raise ClusterError(f"{where}: {type(e).__name__}: {e}") from e
     try:
         n_workers = len(client.scheduler_info()["workers"])
         ready = time.perf_counter()
@@ -250,9 +292,7 @@ def run_sweep(cases, workers=2, scheduler=None, quiet=True):
         if interrupted:
             client.cancel(futures)
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        _close(client, cluster)
     rows.sort(key=lambda r: r["case"])
     return rows, {"startup_s": ready - started, "run_s": done - ready, "workers": n_workers,
                   "interrupted": interrupted, "scheduler": scheduler or "local (127.0.0.1)",
@@ -293,10 +333,10 @@ def write_outputs(out, grid, rows, aggregates, timing):
     if aggregates:
         _write_csv(os.path.join(out, "aggregates.csv"), aggregates)
         written.append("aggregates.csv")
-    with open(os.path.join(out, "sweep.json"), "w") as f:
-        json.dump(_json_safe({"definitions": "docs/metrics.md, docs/python.md", "grid": grid,
-                              "timing": timing, "cases": rows, "aggregates": aggregates}),
-                  f, indent=1, allow_nan=False)
+    document = _json_safe({"definitions": "docs/metrics.md, docs/python.md", "grid": grid,
+                           "timing": timing, "cases": rows, "aggregates": aggregates})
+    _write_whole(os.path.join(out, "sweep.json"),
+                 lambda f: json.dump(document, f, indent=1, allow_nan=False))
     written.append("sweep.json")
     return written
 
@@ -335,11 +375,21 @@ def main(argv=None):
                   f"{args.out}", flush=True)
         where = args.scheduler or f"a local cluster of {args.workers} workers"
         print(f"freespace-sweep: {len(cases)} cases on {where}", flush=True)
-    rows, timing = run_sweep(cases, args.workers, args.scheduler, args.quiet)
+    try:
+        rows, timing = run_sweep(cases, args.workers, args.scheduler, args.quiet)
+    except ClusterError as e:
+        print(f"freespace-sweep: {e}", file=sys.stderr)
+        return 2
     aggregates = aggregate(rows)
-    written = write_outputs(args.out, grid, rows, aggregates, timing)
+    try:
+        written = write_outputs(args.out, grid, rows, aggregates, timing)
+    except OSError as e:
+        whole = [n for n in OUTPUTS if os.path.isfile(os.path.join(args.out, n))]
+        print(f"freespace-sweep: the {len(rows)} cases ran, but writing {args.out} failed: {e} "
+              f"(written whole: {', '.join(whole) or 'none'})", file=sys.stderr)
+        return 1
     if timing["interrupted"]:
-        done = sum(not r["error"].startswith("not run to its end") for r in rows)
+        done = sum(not r["error"].startswith("not run") for r in rows)
         print(f"freespace-sweep: interrupted by SIGINT after {done} of {len(rows)} cases; wrote "
               f"{', '.join(os.path.join(args.out, w) for w in written)} with the rest marked "
               "as not run", file=sys.stderr)

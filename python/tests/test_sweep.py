@@ -189,6 +189,52 @@ class SweepTest(unittest.TestCase):
         for r in rows[1:]:
             self.assertIn("interrupted", r["error"])
 
+    def test_ctrl_c_while_the_cluster_starts_marks_every_case(self):
+        from unittest import mock
+
+        cases = sweep.make_cases(sweep.load_grid(self.grid_path))[:3]
+
+        def starting(*args, **kwargs):
+            raise KeyboardInterrupt
+
+        with mock.patch("dask.distributed.LocalCluster", starting):
+            rows, timing = sweep.run_sweep(cases, workers=1)
+        self.assertTrue(timing["interrupted"])
+        self.assertEqual([r["case"] for r in rows], [0, 1, 2])
+        for r in rows:
+            self.assertIn("interrupted (SIGINT) before it started", r["error"])
+
+    def test_an_unreachable_scheduler_is_an_error(self):
+        logs_only = os.path.join(self.dir.name, "one_log.yaml")
+        with open(logs_only, "w") as f:
+            f.write(f"logs: [{{log: {os.path.join(data_dir(), 'carmen', 'intel.clf')}, "
+                    "max_scans: 5}]\n")
+        env = dict(os.environ, DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT="1s")
+        run = subprocess.run([sys.executable, "-m", "freespace.sweep", logs_only, "--scheduler",
+                              "tcp://127.0.0.1:9", "--out", os.path.join(self.dir.name, "nosched")],
+                             capture_output=True, text=True, env=env)
+        self.assertEqual(run.returncode, 2, run.stderr)
+        self.assertIn("cannot reach the scheduler tcp://127.0.0.1:9", run.stderr)
+        self.assertNotIn("Traceback", run.stderr)
+
+    def test_a_failed_write_leaves_whole_files_only(self):
+        from unittest import mock
+
+        out = os.path.join(self.dir.name, "full_disk")
+        os.makedirs(out)
+        rows = self.result["cases"]
+
+        def no_space(document, f, **kwargs):
+            f.write('{"definitions": ')
+            raise OSError(28, "No space left on device")
+
+        with mock.patch("json.dump", no_space):
+            with self.assertRaises(OSError):
+                sweep.write_outputs(out, {}, rows, [], {})
+        self.assertEqual(os.listdir(out), ["cases.csv"])
+        with open(os.path.join(out, "cases.csv")) as f:
+            self.assertEqual(len(list(csv.DictReader(f))), len(rows))
+
     def test_task_keys_are_each_sweeps_own(self):
         cases = sweep.make_cases(sweep.load_grid(self.grid_path))
         a, b = sweep.task_keys(cases), sweep.task_keys(cases)
