@@ -397,7 +397,12 @@ def main(argv=None):
     plot = None
     if not args.no_plot and aggregates:
         from freespace.sweep_plot import plot_tradeoff
-        plot = plot_tradeoff(os.path.join(args.out, "tradeoff.png"), aggregates, grid)
+        try:
+            plot = plot_tradeoff(os.path.join(args.out, "tradeoff.png"), aggregates, grid)
+        except OSError as e:
+            print(f"freespace-sweep: wrote {args.out}/{', '.join(written)}, but not the plot: {e}",
+                  file=sys.stderr)
+            return 1
     failed = [r for r in rows if r["error"]]
     for r in failed:
         print(f"freespace-sweep: case {r['case']} failed: {r['error']}", file=sys.stderr)

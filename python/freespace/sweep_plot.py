@@ -1,6 +1,8 @@
 """The sweep's trade-off plot: per setting of the grid and scenario, the mean polygon intrusion
 (m^2) against the mean coverage over seeds, the worst seed as a whisker (matplotlib, Agg)."""
 
+import os
+
 
 def _label(agg, keys):
     return ", ".join(f"{k.split('.')[-1]}={agg[k]}" for k in keys) or "base config"
@@ -31,6 +33,14 @@ def plot_tradeoff(path, aggregates, grid):
         ax.set_ylabel("polygon intrusion m$^2$, mean (whisker: worst)")
         ax.grid(True, alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    temporary = path + ".part.png"  # renamed once whole
+    try:
+        fig.savefig(temporary, dpi=110)
+        os.replace(temporary, path)
+    except BaseException:
+        if os.path.exists(temporary):
+            os.remove(temporary)
+        raise
+    finally:
+        plt.close(fig)
     return path
