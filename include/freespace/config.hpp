@@ -10,8 +10,8 @@ namespace freespace {
 
 // The local occupancy grid (paper: 300 x 300 cells at 0.2 m).
 struct MapConfig {
-  int width_cells = 300;      // columns, along world x; 1 .. 8192
-  int height_cells = 300;     // rows, along world y; 1 .. 8192
+  int width_cells = 300;      // columns, along world x; 2 .. 8192
+  int height_cells = 300;     // rows, along world y; 2 .. 8192
   double resolution_m = 0.2;  // edge of a square cell in metres; (0, 10]
 };
 

@@ -109,8 +109,8 @@ std::string AllowedNames(const EnumName<Enum> (&names)[N], const char* separator
 // validation and the documentation cannot drift apart. `C` is Config or const Config.
 template <class C, class Visitor>
 void VisitMap(C& m, Visitor& v) {
-  v("width_cells", m.width_cells, {"cells", Closed(1, 8192), "map columns, along world x"});
-  v("height_cells", m.height_cells, {"cells", Closed(1, 8192), "map rows, along world y"});
+  v("width_cells", m.width_cells, {"cells", Closed(2, 8192), "map columns, along world x"});
+  v("height_cells", m.height_cells, {"cells", Closed(2, 8192), "map rows, along world y"});
   v("resolution_m", m.resolution_m, {"m", OpenClosed(0, 10), "edge of a square cell"});
 }
 
