@@ -371,7 +371,7 @@ TEST(ConfigDocs, EveryFieldHasATypeADocAndAValidDefault) {
 }
 
 TEST(ConfigDocs, RangeErrorsComeFromTheTable) {
-  EXPECT_NE(ErrorOf("map:\n  width_cells: 0\n").find("map.width_cells = 0: must be in [1, 8192]"),
+  EXPECT_NE(ErrorOf("map:\n  width_cells: 1\n").find("map.width_cells = 1: must be in [2, 8192]"),
             std::string::npos);
   EXPECT_NE(ErrorOf("clutter:\n  eps_per_m: 1\n").find("clutter.eps_per_m = 1: must be in [0, 1)"),
             std::string::npos);
