@@ -301,6 +301,13 @@ grep -q "cycle 0: sensor 2 (rear_left): empty scan" "$out/rig-dead-strict.txt" |
   fail "run on a rig's log with empty scans failed"
 "$bin" run --log "$out/sim-rig/sim.fslog" --quiet --max-scans 6 --out "$out/rig-max" \
   >/dev/null 2>&1 || fail "run --max-scans on a rig's log failed"
+# A cycle cut by --max-scans: its warning cites the lines of the scans read and says so.
+"$bin" run --log "$out/rig-dead.fslog" --max-scans 7 --out "$out/rig-dead-cut" \
+  >"$out/rig-dead-cut.txt" 2>&1 || fail "run --max-scans 7 on the rig's log failed"
+line1=$(grep -n '^SCAN' "$out/rig-dead.fslog" | sed -n 5p | cut -d: -f1)
+line3=$(grep -n '^SCAN' "$out/rig-dead.fslog" | sed -n 7p | cut -d: -f1)
+grep -q "rig-dead.fslog:$line1-$line3: cycle 1: .*(--max-scans cut the cycle after 3 scans)" \
+  "$out/rig-dead-cut.txt" || fail "the cut cycle's warning: $(cat "$out/rig-dead-cut.txt")"
 /usr/bin/python3 - "$out" <<'PY' || fail "a rig's summary.json does not add up"
 import json, sys
 s = json.load(open(sys.argv[1] + "/rig-dead/summary.json"))

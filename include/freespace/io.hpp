@@ -113,6 +113,8 @@ class CycleReader {
   // The log line where the cycle's first scan started, and where its last one did.
   std::size_t line() const { return line_; }
   std::size_t last_line() const { return last_line_; }
+  // The line where the cycle's scan k started (k < the cycle's size; else last_line()).
+  std::size_t line_of(std::size_t k) const { return k < lines_.size() ? lines_[k] : last_line_; }
 
  private:
   LogReader& reader_;
@@ -122,6 +124,7 @@ class CycleReader {
   std::size_t pending_line_ = 0;
   std::size_t line_ = 0;
   std::size_t last_line_ = 0;
+  std::vector<std::size_t> lines_;  // each scan's of the cycle
 };
 
 // Writes the project's own multi-layer log format (docs/formats.md): version 1 for one sensor,

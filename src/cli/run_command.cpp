@@ -215,7 +215,7 @@ class LogRun {
       tally_.scans_read += long(cycle.size());
       tally_.cycles_read += tally_.rig() ? 1 : 0;
       const Result& r = estimator_->ProcessCycle(cycle);
-      const Verdict verdict = Check(r, cycle, Where(r), cut);
+      const Verdict verdict = Check(r, cycle, Where(r, cycle.size()), cut);
       if (verdict == Verdict::kStop) return kExitBadInput;
       if (verdict == Verdict::kSkip) continue;
       Keep(r, long(cycle.size()));
@@ -231,11 +231,12 @@ class LogRun {
     return kExitOk;
   }
 
-  // Where a warning about call `r` points: the log's line (a rig's cycle: its lines) and the
-  // scan's (cycle's) index.
-  std::string Where(const Result& r) const {
+  // Where a warning about call `r` on the `scans` first scans of the cycle read points: the
+  // log's line (a rig's cycle: its lines) and the scan's (cycle's) index.
+  std::string Where(const Result& r, std::size_t scans) const {
     std::string at = reader_->path() + ":" + std::to_string(cycles_->line());
-    if (cycles_->last_line() != cycles_->line()) at += "-" + std::to_string(cycles_->last_line());
+    const std::size_t last = cycles_->line_of(scans > 0 ? scans - 1 : 0);
+    if (last != cycles_->line()) at += "-" + std::to_string(last);
     return at + (tally_.rig() ? ": cycle " : ": scan ") + std::to_string(r.scan_index);
   }
 
@@ -282,8 +283,11 @@ class LogRun {
     // A scan (of a rig: any sensor's) that added nothing, or a rig's sensor without a scan.
     const RunTally::Silent silent = tally_.AddSilent(r, cycle, cut);
     if (silent.scans + silent.missing > 0) {
-      warnings_.Print(silent.scans > 0 ? "no_sensor_update" : "sensor_missing",
-                      at + ": " + r.message);
+      warnings_.Print(
+          silent.scans > 0 ? "no_sensor_update" : "sensor_missing",
+          at + ": " + r.message +
+              (cut ? " (--max-scans cut the cycle after " + std::to_string(cycle.size()) + " scans)"
+                   : ""));
       const bool empty = std::any_of(cycle.begin(), cycle.end(),
                                      [](const Scan& scan) { return scan.points.empty(); });
       if (empty && StopsHere("an empty scan")) return Verdict::kStop;

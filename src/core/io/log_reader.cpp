@@ -45,9 +45,11 @@ const char* ToString(LogFormat format) {
 
 bool CycleReader::Next(std::vector<Scan>* cycle) {
   cycle->clear();
+  lines_.clear();
   if (has_pending_) {
     cycle->push_back(std::move(pending_));
     line_ = last_line_ = pending_line_;
+    lines_.push_back(pending_line_);
     has_pending_ = false;
   }
   while (int(cycle->size()) < sensors_) {
@@ -63,6 +65,7 @@ bool CycleReader::Next(std::vector<Scan>* cycle) {
     }
     if (cycle->empty()) line_ = reader_.line();
     last_line_ = reader_.line();
+    lines_.push_back(last_line_);
     cycle->push_back(std::move(scan));
   }
   return !cycle->empty();
