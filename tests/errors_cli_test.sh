@@ -209,5 +209,18 @@ names sensor-set-rig "the scanners of --rig surround are the sensors of its driv
 expect 2 demo-sensor-set-rig "$bin" demo --rig surround --config "$out/sensor.yaml" \
   --set sensor.max_range_m=50 --duration 0.1 --out "$out/x"
 names demo-sensor-set-rig "the scanners of --rig surround are the sensors of its drive"
+# A simulated rig of several scanners brings its vehicle too (refused before any file is made);
+# a config with another number of sensors than the drive's scanners is refused.
+rm -rf "$out/rig-set"
+expect 2 demo-rig-set-rig "$bin" demo --rig surround --set rig.footprint_length_m=0 \
+  --duration 0.1 --out "$out/rig-set"
+names demo-rig-set-rig "the vehicle of --rig surround is its drives' rig section"
+[ -e "$out/rig-set" ] && fail "demo refused its config after making $out/rig-set"
+expect 2 eval-rig-set-rig "$bin" eval --seeds 1 --rig surround --set rig.reference_x_m=0 \
+  --duration 0.1 --out "$out/x"
+names eval-rig-set-rig "the vehicle of --rig surround is its drives' rig section"
+expect 2 demo-rig-count "$bin" demo --rig front --config "$(dirname "$0")/../configs/surround.yaml" \
+  --duration 0.1 --out "$out/x"
+names demo-rig-count "the drive's rig 'front' has 1 scanner(s), the config 4 sensors"
 
 echo "errors_cli: all cases passed"

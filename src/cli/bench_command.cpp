@@ -112,6 +112,7 @@ int RunRig(const BenchCommandOptions& options) {
   nlohmann::json runs = nlohmann::json::array();
   try {
     RefuseSensorSettings(options.engine, "bench --rig times the simulated rig's own scanners");
+    RefuseSimulatedRigSettings(options.engine, options.sim.rig);
     const Config base = LoadEngineConfig(options.engine, nullptr);  // refused before the table
     const BenchOptions suite = SuiteOptions(options);
     MakeDirectories(options.out);

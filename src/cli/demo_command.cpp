@@ -120,9 +120,9 @@ class DemoRun {
       AddMapOutputs(options_.save_map, &outputs);
       RefuseOverwritingInputs({{"--config", options_.engine.config_path}}, outputs);
       simulation_ = std::make_unique<sim::Simulation>(MakeSimulationOptions(options_.sim));
+      config_ = DriveConfig();
       MakeDirectories(options_.out);
       writer_ = std::make_unique<sim::SimulationWriter>(options_.out, truth());
-      config_ = DriveConfig();
       estimator_ = std::make_unique<Estimator>(config_);
       WriteTextFile(options_.out + "/config.yaml", config_.ToYaml());
       polygons_ = std::make_unique<TextFile>(options_.out + "/polygons.jsonl");
@@ -137,16 +137,25 @@ class DemoRun {
   const sim::Truth& truth() const { return simulation_->truth(); }
 
   // The engine's config for the drive: the config file and --set over the road setup, with the
-  // drive's scanner unless the config has a sensor section. A rig of several scanners always
-  // brings its own sensors (as eval --seeds does), so --set sensor.* is refused with it.
+  // drive's scanner unless the config has a sensor section (whose sensors must then be as many
+  // as the drive's scanners). A rig of several scanners always brings its own sensors and
+  // vehicle (as eval --seeds does), so --set sensor.* and rig.* are refused with it.
   Config DriveConfig() const {
     const sim::Rig& rig = truth().rig;
     const LogSensors sensors{sim::EngineSensors(rig), rig.vehicle};
-    if (!rig.several()) return LoadEngineConfig(options_.engine, sensors, RoadConfig());
-    RefuseSensorSettings(options_.engine,
-                         "the scanners of --rig " + rig.name + " are the sensors of its drive");
-    Config config = sim::WithRig(LoadEngineConfig(options_.engine, sensors, RoadConfig()), rig);
-    config.Validate();
+    Config config;
+    if (rig.several()) {
+      RefuseSimulatedRigSettings(options_.engine, rig.name);
+      config = sim::WithRig(LoadEngineConfig(options_.engine, sensors, RoadConfig()), rig);
+      config.Validate();
+    } else {
+      config = LoadEngineConfig(options_.engine, sensors, RoadConfig());
+    }
+    if (config.sensor_count() != int(rig.scanners.size())) {
+      throw ConfigError("config: the drive's rig '" + rig.name + "' has " +
+                        std::to_string(rig.scanners.size()) + " scanner(s), the config " +
+                        std::to_string(config.sensor_count()) + " sensors");
+    }
     return config;
   }
 

@@ -129,6 +129,16 @@ void RefuseSensorSettings(const EngineOptions& options, const std::string& what)
   }
 }
 
+void RefuseSimulatedRigSettings(const EngineOptions& options, const std::string& rig) {
+  RefuseSensorSettings(options, "the scanners of --rig " + rig + " are the sensors of its drives");
+  for (const std::string& setting : options.settings) {
+    if (setting.rfind("rig.", 0) == 0) {
+      throw ConfigError("--set " + setting + ": the vehicle of --rig " + rig +
+                        " is its drives' rig section");
+    }
+  }
+}
+
 void MakeDirectories(const std::string& dir) {
   std::error_code error;
   std::filesystem::create_directories(dir, error);

@@ -51,6 +51,9 @@ bool ConfigSetsSensor(const EngineOptions& options);
 // Throws ConfigError when a --set names a sensor field where the command takes the sensor from
 // a simulated drive instead (`what`: the command and why), which would leave it unread.
 void RefuseSensorSettings(const EngineOptions& options, const std::string& what);
+// The same for a simulated rig of several scanners (`rig`: its name), whose scanners and vehicle
+// replace a config's `sensor`, `sensors` and `rig` sections: --set sensor.* and rig.* refused.
+void RefuseSimulatedRigSettings(const EngineOptions& options, const std::string& rig);
 
 // Creates `dir` (and parents); throws OutputError when it cannot.
 void MakeDirectories(const std::string& dir);

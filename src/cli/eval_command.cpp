@@ -54,8 +54,7 @@ int EvalSeeds(const EvalOptions& options) {
                            "sensor section replaces it, and --set then changes that)");
     }
     if (sim::MakeRig(options.sim.rig, {}).several()) {  // EvaluateDrive takes the rig's own
-      RefuseSensorSettings(options.engine, "the scanners of --rig " + options.sim.rig +
-                                               " are the sensors of its drives");
+      RefuseSimulatedRigSettings(options.engine, options.sim.rig);
     }
     MakeDirectories(options.out);
   } catch (const std::exception& e) {
