@@ -75,4 +75,12 @@ CPP
 grep -q "the component baselines (freespace::baselines) needs OpenCV" \
   "$out/baselines-no-opencv.log" ||
   fail "no reason for the missing component: $(tail -20 "$out/baselines-no-opencv.log")"
+# A component the package does not have is refused, naming the ones it has.
+sed -i 's/COMPONENTS baselines/COMPONENTS baseline/' "$out/baselines-src/CMakeLists.txt"
+"$cmake" -S "$out/baselines-src" -B "$out/baselines-misspelt" -DCMAKE_PREFIX_PATH="$prefix" \
+  -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -Dfreespace_DIR="$(dirname "$config")" \
+  >"$out/baselines-misspelt.log" 2>&1 && fail "find_package(freespace COMPONENTS baseline) configured"
+grep -q "no component 'baseline': the components are freespace and baselines" \
+  "$out/baselines-misspelt.log" ||
+  fail "no reason for the unknown component: $(tail -20 "$out/baselines-misspelt.log")"
 echo "install + consumer ok: $(tail -2 "$out/consumer.out" | head -1)"
