@@ -31,8 +31,10 @@ import csv
 import json
 import math
 import os
+import signal
 import socket
 import sys
+import threading
 import time
 import uuid
 
@@ -246,21 +248,33 @@ def task_keys(cases):
     return [f"freespace-case-{sweep_id}-{c['case']}" for c in cases]
 
 
-def run_sweep(cases, workers=2, scheduler=None, quiet=True):
-    """Runs every case as a Dask task: on the cluster at `scheduler` (tcp://HOST:PORT), or on a
-    local cluster of `workers` processes, one thread each, on the loopback interface. Returns
-    the rows in case order and the timing {"startup_s", "run_s", "workers", "interrupted", ...};
-    unless `quiet`, prints a line per case as it ends. The tasks' keys are this sweep's own, so
-    that sweeps sharing a scheduler never share a task."""
+class _SigintHeld:
+    """Holds Ctrl-C (SIGINT) back while the cluster starts or closes, so that neither is left
+    half done; `caught` says whether one came. Outside the main thread, where no handler can be
+    set, it holds nothing back."""
+
+    def __enter__(self):
+        self.caught = False
+        self._previous = None
+        if threading.current_thread() is threading.main_thread():
+            self._previous = signal.signal(signal.SIGINT, self._note)
+        return self
+
+    def _note(self, signum, frame):
+        self.caught = True
+
+    def __exit__(self, *exc):
+        if self._previous is not None:
+            signal.signal(signal.SIGINT, self._previous)
+        return False
+
+
+def _start(workers, scheduler):
+    """The client, and the local cluster (None with a scheduler); ClusterError when the
+    scheduler cannot be reached or the cluster does not start."""
     from dask.distributed import Client, LocalCluster
 
-    # Worker processes import freespace from where this one did.
-    package_parent = os.path.dirname(os.path.dirname(os.path.abspath(fs.__file__)))
-    paths = [package_parent] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
-    os.environ["PYTHONPATH"] = os.pathsep.join(dict.fromkeys(paths))
-    load_start = os.getloadavg()[0]
-    started = time.perf_counter()
-    cluster = client = None
+    client = cluster = None
     try:
         if scheduler:
             client = Client(scheduler)
@@ -271,28 +285,53 @@ def run_sweep(cases, workers=2, scheduler=None, quiet=True):
                                    host="127.0.0.1", dashboard_address="127.0.0.1:0",
                                    worker_dashboard_address="127.0.0.1:0")
             client = Client(cluster)
-    except KeyboardInterrupt:  # Ctrl-C while the cluster starts: no case ran
-        _close(client, cluster)
-        rows = [_error_row(c, "not run: the sweep was interrupted (SIGINT) before it started")
-                for c in cases]
-        return rows, {"startup_s": time.perf_counter() - started, "run_s": 0.0, "workers": 0,
-                      "interrupted": True, "scheduler": scheduler or "local (127.0.0.1)",
-                      "load_average_start": load_start, "load_average_end": os.getloadavg()[0]}
-    except (OSError, TimeoutError) as e:
+    except (OSError, TimeoutError, ValueError) as e:  # ValueError: a malformed address
         _close(client, cluster)
         where = f"cannot reach the scheduler {scheduler}" if scheduler else \
             "the local cluster did not start"
         raise ClusterError(f"{where}: {type(e).__name__}: {e}") from e
-    try:
-        n_workers = len(client.scheduler_info()["workers"])
-        ready = time.perf_counter()
-        futures = client.map(run_case, cases, key=task_keys(cases), pure=False)
-        rows, interrupted = _collect(futures, cases, quiet)
-        done = time.perf_counter()
-        if interrupted:
-            client.cancel(futures)
-    finally:
-        _close(client, cluster)
+    return client, cluster
+
+
+def run_sweep(cases, workers=2, scheduler=None, quiet=True):
+    """Runs every case as a Dask task: on the cluster at `scheduler` (tcp://HOST:PORT), or on a
+    local cluster of `workers` processes, one thread each, on the loopback interface. Returns
+    the rows in case order and the timing {"startup_s", "run_s", "workers", "interrupted", ...};
+    unless `quiet`, prints a line per case as it ends. The tasks' keys are this sweep's own, so
+    that sweeps sharing a scheduler never share a task. Ctrl-C (SIGINT) while the cluster starts
+    or closes waits for that to end: every case is a row, those not run saying so."""
+    # Worker processes import freespace from where this one did.
+    package_parent = os.path.dirname(os.path.dirname(os.path.abspath(fs.__file__)))
+    paths = [package_parent] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+    os.environ["PYTHONPATH"] = os.pathsep.join(dict.fromkeys(paths))
+    load_start = os.getloadavg()[0]
+    started = ready = done = time.perf_counter()
+    n_workers, futures, rows, interrupted = 0, [], None, False
+    with _SigintHeld() as held:
+        client, cluster = _start(workers, scheduler)
+        if held.caught:
+            _close(client, cluster)
+    if held.caught:
+        interrupted = True
+        ready = done = time.perf_counter()
+        rows = [_error_row(c, "not run: the sweep was interrupted (SIGINT) before it started")
+                for c in cases]
+    else:
+        try:
+            n_workers = len(client.scheduler_info()["workers"])
+            ready = time.perf_counter()
+            futures = client.map(run_case, cases, key=task_keys(cases), pure=False)
+            rows, interrupted = _collect(futures, cases, quiet)
+        except KeyboardInterrupt:  # outside _collect's wait: no row came back
+            interrupted = True
+            rows = [_error_row(c, "not run to its end: the sweep was interrupted (SIGINT)")
+                    for c in cases]
+        finally:
+            done = time.perf_counter()
+            with _SigintHeld():
+                if interrupted and futures:
+                    client.cancel(futures)
+                _close(client, cluster)
     rows.sort(key=lambda r: r["case"])
     return rows, {"startup_s": ready - started, "run_s": done - ready, "workers": n_workers,
                   "interrupted": interrupted, "scheduler": scheduler or "local (127.0.0.1)",
@@ -307,7 +346,7 @@ def prepare_out(out):
     it, so that none of them is left looking like this sweep's; the names of those removed."""
     os.makedirs(out, exist_ok=True)
     removed = []
-    for name in OUTPUTS:
+    for name in OUTPUTS + tuple(n + ".part" for n in OUTPUTS) + ("tradeoff.png.part.png",):
         path = os.path.join(out, name)
         if os.path.isfile(path) or os.path.islink(path):
             os.remove(path)
@@ -394,6 +433,9 @@ def main(argv=None):
               f"{', '.join(os.path.join(args.out, w) for w in written)} with the rest marked "
               "as not run", file=sys.stderr)
         return 130
+    failed = [r for r in rows if r["error"]]
+    for r in failed:
+        print(f"freespace-sweep: case {r['case']} failed: {r['error']}", file=sys.stderr)
     plot = None
     if not args.no_plot and aggregates:
         from freespace.sweep_plot import plot_tradeoff
@@ -403,9 +445,6 @@ def main(argv=None):
             print(f"freespace-sweep: wrote {args.out}/{', '.join(written)}, but not the plot: {e}",
                   file=sys.stderr)
             return 1
-    failed = [r for r in rows if r["error"]]
-    for r in failed:
-        print(f"freespace-sweep: case {r['case']} failed: {r['error']}", file=sys.stderr)
     if not args.quiet:
         if plot:
             plotted = ", " + os.path.basename(plot)

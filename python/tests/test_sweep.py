@@ -7,6 +7,7 @@ import importlib.util
 import json
 import math
 import os
+import signal
 import subprocess
 import sys
 import tempfile
@@ -194,12 +195,24 @@ class SweepTest(unittest.TestCase):
 
         cases = sweep.make_cases(sweep.load_grid(self.grid_path))[:3]
 
-        def starting(*args, **kwargs):
-            raise KeyboardInterrupt
+        closed = []
 
-        with mock.patch("dask.distributed.LocalCluster", starting):
+        class Started:  # as much of a cluster and a client as the start and the close use
+            def __init__(self, name):
+                self.name = name
+
+            def close(self):
+                closed.append(self.name)
+
+        def starting(*args, **kwargs):  # Ctrl-C comes while the cluster starts
+            os.kill(os.getpid(), signal.SIGINT)
+            return Started("cluster")
+
+        with mock.patch("dask.distributed.LocalCluster", starting), \
+                mock.patch("dask.distributed.Client", lambda cluster: Started("client")):
             rows, timing = sweep.run_sweep(cases, workers=1)
         self.assertTrue(timing["interrupted"])
+        self.assertEqual(sorted(closed), ["client", "cluster"])  # started whole, then closed
         self.assertEqual([r["case"] for r in rows], [0, 1, 2])
         for r in rows:
             self.assertIn("interrupted (SIGINT) before it started", r["error"])
@@ -216,6 +229,11 @@ class SweepTest(unittest.TestCase):
         self.assertEqual(run.returncode, 2, run.stderr)
         self.assertIn("cannot reach the scheduler tcp://127.0.0.1:9", run.stderr)
         self.assertNotIn("Traceback", run.stderr)
+        run = subprocess.run([sys.executable, "-m", "freespace.sweep", logs_only, "--scheduler",
+                              "127.0.0.1:notaport", "--out", os.path.join(self.dir.name, "nosched")],
+                             capture_output=True, text=True, env=env)
+        self.assertEqual(run.returncode, 2, run.stderr)
+        self.assertIn("cannot reach the scheduler 127.0.0.1:notaport: ValueError", run.stderr)
 
     def test_a_failed_write_leaves_whole_files_only(self):
         from unittest import mock
