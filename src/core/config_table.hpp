@@ -206,7 +206,9 @@ void VisitPolygon(C& p, Visitor& v) {
   v.Enum("shape", p.shape, kPolygonShapeNames,
          {"", {}, "C_Edge cell centres (paper IV.B) or conservative: free cells only"});
   v("max_vertices", p.max_vertices, {"", Closed(3, 4096), "N: most vertices of the polygon"});
-  v("epsilon_m", p.epsilon_m, {"m", AtLeast(0), "Douglas-Peucker tolerance"});
+  v("epsilon_m", p.epsilon_m,
+    {"m", AtLeast(0),
+     "simplification tolerance (Douglas-Peucker; shape inside: of the least-area drops)"});
   v("margin_cells", p.margin_cells,
     {"cells", Closed(0, 32),
      "safety margin in front of occupied and unknown cells (not in the paper; 0 = none)"});

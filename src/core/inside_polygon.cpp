@@ -50,6 +50,7 @@ InsidePolygonBuilder::InsidePolygonBuilder(int width, int height, int max_vertic
                                            int parts)
     : width_(width),
       height_(height),
+      area_(max_vertices, epsilon, kInwardWeight, 4 * BorderLabelCount(height, width)),
       simplifier_(max_vertices, epsilon),
       parts_(std::max(1, parts)) {
   simplifier_.set_inward_weight(kInwardWeight);
@@ -383,7 +384,8 @@ bool InsidePolygonBuilder::Build(const MaskView& mask, const SensorCell& s,
     if (bound(part + 1) > bound(part)) BetweenRays(mask, sensor, bound(part + 1) - 1);
   }
   AssembleRing(sensor);
-  *error = simplifier_.Simplify(ring_, sensor, &kept_);
+  *error = area_.Simplify(ring_, sensor, &kept_);
+  if (*error < 0.0) *error = simplifier_.Simplify(ring_, sensor, &kept_);
   const int n = int(kept_.size());
   scale_.assign(std::size_t(n), 1.0);
   for (int k = 0; k < n; ++k) {

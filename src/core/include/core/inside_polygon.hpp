@@ -3,13 +3,14 @@
 // mask less the safety margin, kernel stage 3b) or on such a cell's edge. It is built from the
 // exact border rays of stage 4 (core/exact_ray.hpp), which end where they first meet a cell
 // outside the mask: the ring of their end points, pulled toward the sensor where a cell outside
-// the mask pokes between two neighbouring rays, simplified like the paper's polygon and pulled
-// once more where a simplified edge cuts inside the ring.
+// the mask pokes between two neighbouring rays, simplified by least area given up
+// (core/area_simplifier.hpp) and pulled once more where a simplified edge cuts inside the ring.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
+#include "core/area_simplifier.hpp"
 #include "core/exact_ray.hpp"
 #include "core/simplifier.hpp"
 #include "freespace/types.hpp"
@@ -105,7 +106,8 @@ class InsidePolygonBuilder {
   static bool Distinct(std::vector<Vec2>* polygon);
 
   int width_, height_;
-  PolygonSimplifier simplifier_;
+  AreaSimplifier area_;            // the ring's simplification
+  PolygonSimplifier simplifier_;  // where area_ cannot keep N vertices around the sensor
   std::vector<int> labels_;              // one label per distinct border cell, in label order
   std::vector<Vec2> end_;                // where each ray ended
   std::vector<RayStop> end_stop_;        // and how
