@@ -12,6 +12,9 @@ namespace freespace {
 namespace {
 
 constexpr double kNever = std::numeric_limits<double>::infinity();
+// Below this (twice the area, cells^2) a triangle counts as none, as where the conservative
+// polygon's edges are pulled inside the ring (fan::kAreaTolerance).
+constexpr double kAreaTolerance = 1e-9;
 
 double Cross(const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); }
 
@@ -34,25 +37,31 @@ AreaSimplifier::AreaSimplifier(int max_vertices, double epsilon, double inward_w
       prev_(std::size_t(capacity)),
       next_(std::size_t(capacity)),
       stamp_(std::size_t(capacity)),
+      deviation_(std::size_t(capacity)),
       dropped_(std::size_t(capacity)) {
   heap_.reserve(3 * std::size_t(capacity) + 3);  // each vertex once, then two per drop
 }
 
 AreaSimplifier::Drop AreaSimplifier::Cost(const std::vector<Vec2>& ring, const Vec2& centre,
                                           int v) const {
-  const Vec2& u = ring[std::size_t(prev_[std::size_t(v)])];
+  const int before = prev_[std::size_t(v)];
+  const Vec2& u = ring[std::size_t(before)];
   const Vec2& w = ring[std::size_t(next_[std::size_t(v)])];
   const Vec2& p = ring[std::size_t(v)];
-  Drop drop{kNever, kNever, v, stamp_[std::size_t(v)]};
-  // The new edge u -> w must pass the centre on its left, or run through it (a ray blocked at
-  // once ends there).
-  const bool at_centre = (u - centre).squaredNorm() <= 1e-18 || (w - centre).squaredNorm() <= 1e-18;
-  if (!at_centre && Cross(w - u, centre - u) <= 0.0) return drop;
+  Drop drop{kNever, kNever, kNever, v, stamp_[std::size_t(v)]};
+  const auto at_centre = [&](const Vec2& q) { return (q - centre).squaredNorm() <= 1e-18; };
+  // A vertex at the centre stays; the new edge u -> w must pass the centre on its left, or end
+  // at it.
+  if (at_centre(p)) return drop;
+  if (!at_centre(u) && !at_centre(w) && Cross(w - u, centre - u) <= kAreaTolerance) return drop;
   const double twice = Cross(w - u, p - u);  // > 0: p is left of the new edge, a reflex vertex
   const double weight = twice > 0.0 ? inward_weight_ : 1.0;
-  const double length = (w - u).norm();
   drop.cost = weight * 0.5 * std::abs(twice);
-  drop.distance = weight * (length > 0.0 ? std::abs(twice) / length : (p - u).norm());
+  // The vertices under u -> v and v -> w lie within their bounds of those edges, whose points
+  // lie within p's distance of u -> w (the farthest is an end): the sum bounds them all.
+  drop.deviation = std::max(deviation_[std::size_t(before)], deviation_[std::size_t(v)]) +
+                   DistanceToSegment(p, u, w);
+  drop.distance = weight * drop.deviation;
   return drop;
 }
 
@@ -86,6 +95,7 @@ double AreaSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& centr
     prev_[std::size_t(i)] = i > 0 ? i - 1 : n - 1;
     next_[std::size_t(i)] = i + 1 < n ? i + 1 : 0;
     stamp_[std::size_t(i)] = 0;
+    deviation_[std::size_t(i)] = 0.0;
     dropped_[std::size_t(i)] = 0;
   }
   for (int i = 0; i < n; ++i) heap_.push_back(Cost(ring, centre, i));
@@ -99,6 +109,7 @@ double AreaSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& centr
     dropped_[std::size_t(v)] = 1;
     next_[std::size_t(u)] = w;
     prev_[std::size_t(w)] = u;
+    deviation_[std::size_t(u)] = drop.deviation;
     --count;
     for (const int k : {u, w}) {
       ++stamp_[std::size_t(k)];

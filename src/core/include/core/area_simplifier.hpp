@@ -3,8 +3,9 @@
 // further drop stays within epsilon. Dropping a convex vertex cuts off the triangle it makes with
 // its neighbours; dropping a reflex one would pass outside the ring, and the edge must then be
 // pulled in (core/inside_polygon.hpp), so it costs `inward_weight` times its triangle. A drop
-// whose new edge would not pass the centre on its left is never made: the result stays
-// star-shaped around it.
+// whose new edge would not pass the centre on its left is never made, nor one of a vertex at the
+// centre (where rays were blocked at once, the polygon must pass through it): the result stays
+// star-shaped around the centre.
 #pragma once
 
 #include <vector>
@@ -21,14 +22,16 @@ class AreaSimplifier {
 
   // Simplifies the closed, counter-clockwise `ring` around `centre`: the indices of the kept
   // vertices (ring order) into `kept`. Returns the largest distance from a dropped vertex to
-  // the kept edge that replaced it, or -1 when no N vertices could be kept with the centre left
-  // of every edge (kept is then empty: the caller simplifies another way).
+  // the kept edge that replaced it (at most epsilon unless N stopped the drops), or -1 when the
+  // drops could not get down to N vertices with the centre left of every edge (kept is then
+  // empty: the caller simplifies another way).
   double Simplify(const std::vector<Vec2>& ring, const Vec2& centre, std::vector<int>* kept);
 
  private:
   struct Drop {
-    double cost;      // the area given up, weighted when the vertex is reflex
-    double distance;  // its distance from the new edge, weighted likewise
+    double cost;       // the area given up, weighted when the vertex is reflex
+    double deviation;  // a bound on the distance of the vertices the new edge replaces from it
+    double distance;   // the bound, weighted when the vertex is reflex
     int vertex;
     int stamp;  // the vertex's stamp when this was worked out: stale when it changed since
   };
@@ -41,6 +44,7 @@ class AreaSimplifier {
   double epsilon_;
   double inward_weight_;
   std::vector<int> prev_, next_, stamp_;
+  std::vector<double> deviation_;  // per kept vertex: the bound for the edge that starts at it
   std::vector<char> dropped_;
   std::vector<Drop> heap_;
 };
