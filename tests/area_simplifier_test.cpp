@@ -12,6 +12,7 @@
 #include <limits>
 #include <random>
 
+#include "core/fan_pull.hpp"
 #include "core/simplifier.hpp"
 
 namespace freespace {
@@ -19,7 +20,7 @@ namespace {
 
 constexpr double kWeight = 100.0;
 
-double Cross(const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); }
+using fan::Cross;
 
 // The drop of kept[i] (dev[j]: the bound for the kept edge from kept[j]): its weighted area,
 // its deviation bound and that bound weighted; infinite when not allowed.
@@ -33,7 +34,7 @@ void DropOf(const std::vector<Vec2>& ring, const std::vector<int>& kept,
   *cost = *deviation = *distance = std::numeric_limits<double>::infinity();
   const auto at_centre = [&](const Vec2& q) { return (q - centre).squaredNorm() <= 1e-18; };
   if (at_centre(p)) return;
-  if (!at_centre(u) && !at_centre(w) && Cross(w - u, centre - u) <= 1e-9) return;
+  if (!at_centre(u) && !at_centre(w) && Cross(w - u, centre - u) <= fan::kAreaTolerance) return;
   const double twice = Cross(w - u, p - u);
   const double weight = twice > 0.0 ? kWeight : 1.0;
   *cost = weight * 0.5 * std::abs(twice);
@@ -119,8 +120,7 @@ TEST(AreaSimplifier, KeepsWhatTheGreedyKeeps) {
       }
       for (int i = (a + 1) % n; i != b; i = (i + 1) % n) {
         EXPECT_NE(ring[std::size_t(i)], centre);
-        farthest = std::max(farthest, DistanceToSegment(ring[std::size_t(i)],
-                                                        ring[std::size_t(a)],
+        farthest = std::max(farthest, DistanceToSegment(ring[std::size_t(i)], ring[std::size_t(a)],
                                                         ring[std::size_t(b)]));
       }
     }
@@ -137,7 +137,7 @@ TEST(AreaSimplifier, KeepsWhatTheGreedyKeeps) {
 // notch, which an edge across it would pass outside, stays. The bump's base then lies on a
 // straight line, but dropping it would leave the tip 1 cell off the new edge: beyond epsilon.
 TEST(AreaSimplifier, GivesUpABumpBeforeANotch) {
-  const std::vector<Vec2> ring = {{0, 0},  {5, 0},  {6, -1}, {7, 0},  {12, 0},
+  const std::vector<Vec2> ring = {{0, 0},   {5, 0},  {6, -1}, {7, 0},  {12, 0},
                                   {12, 12}, {7, 12}, {6, 11}, {5, 12}, {0, 12}};
   const Vec2 centre(6, 6);
   AreaSimplifier simplifier(9, 0.0, kWeight, 16);
@@ -171,7 +171,7 @@ TEST(AreaSimplifier, TheErrorStaysWithinEpsilonBelowN) {
 // A ray blocked at once ends at the centre: that vertex is never dropped (an edge past it would
 // be pulled in to nothing), so its neighbours stay too.
 TEST(AreaSimplifier, KeepsAVertexAtTheCentre) {
-  const std::vector<Vec2> ring = {{100, 0},   {0, 0},     {100, 0.5},  {100, 100},
+  const std::vector<Vec2> ring = {{100, 0},    {0, 0},       {100, 0.5}, {100, 100},
                                   {-100, 100}, {-100, -100}, {100, -100}};
   AreaSimplifier simplifier(6, 0.0, kWeight, 8);
   std::vector<int> kept;

@@ -161,12 +161,12 @@ def _setting_of(row):
     return {k: v for k, v in row.items() if k not in _ROW_FIXED}
 
 
-def _write_whole(path, write, newline=None):
+def write_whole(path, write, mode="w", newline=None):
     """Writes a file through write(f) under a temporary name, then renames it: the file is
     whole or absent (a failed write removes the temporary file and raises)."""
     temporary = path + ".part"
     try:
-        with open(temporary, "w", newline=newline) as f:
+        with open(temporary, mode, newline=newline) as f:
             write(f)
         os.replace(temporary, path)
     except BaseException:
@@ -185,7 +185,7 @@ def _write_csv(path, rows):
         writer.writeheader()
         writer.writerows(rows)
 
-    _write_whole(path, write, newline="")
+    write_whole(path, write, newline="")
 
 
 def _progress_line(row, done, total):
@@ -346,7 +346,7 @@ def prepare_out(out):
     it, so that none of them is left looking like this sweep's; the names of those removed."""
     os.makedirs(out, exist_ok=True)
     removed = []
-    for name in OUTPUTS + tuple(n + ".part" for n in OUTPUTS) + ("tradeoff.png.part.png",):
+    for name in OUTPUTS + tuple(n + ".part" for n in OUTPUTS):
         path = os.path.join(out, name)
         if os.path.isfile(path) or os.path.islink(path):
             os.remove(path)
@@ -374,7 +374,7 @@ def write_outputs(out, grid, rows, aggregates, timing):
         written.append("aggregates.csv")
     document = _json_safe({"definitions": "docs/metrics.md, docs/python.md", "grid": grid,
                            "timing": timing, "cases": rows, "aggregates": aggregates})
-    _write_whole(os.path.join(out, "sweep.json"),
+    write_whole(os.path.join(out, "sweep.json"),
                  lambda f: json.dump(document, f, indent=1, allow_nan=False))
     written.append("sweep.json")
     return written

@@ -1,8 +1,6 @@
 """The sweep's trade-off plot: per setting of the grid and scenario, the mean polygon intrusion
 (m^2) against the mean coverage over seeds, the worst seed as a whisker (matplotlib, Agg)."""
 
-import os
-
 
 def _label(agg, keys):
     return ", ".join(f"{k.split('.')[-1]}={agg[k]}" for k in keys) or "base config"
@@ -33,14 +31,10 @@ def plot_tradeoff(path, aggregates, grid):
         ax.set_ylabel("polygon intrusion m$^2$, mean (whisker: worst)")
         ax.grid(True, alpha=0.3)
     fig.tight_layout()
-    temporary = path + ".part.png"  # renamed once whole
+    from freespace.sweep import write_whole
+
     try:
-        fig.savefig(temporary, dpi=110)
-        os.replace(temporary, path)
-    except BaseException:
-        if os.path.exists(temporary):
-            os.remove(temporary)
-        raise
+        write_whole(path, lambda f: fig.savefig(f, format="png", dpi=110), mode="wb")
     finally:
         plt.close(fig)
     return path

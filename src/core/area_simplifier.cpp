@@ -6,17 +6,18 @@
 #include <cmath>
 #include <limits>
 
+#include "core/fan_pull.hpp"
 #include "core/simplifier.hpp"
 
 namespace freespace {
 namespace {
 
-constexpr double kNever = std::numeric_limits<double>::infinity();
-// Below this (twice the area, cells^2) a triangle counts as none, as where the conservative
-// polygon's edges are pulled inside the ring (fan::kAreaTolerance).
-constexpr double kAreaTolerance = 1e-9;
+// The conservative polygon's own cross product and area tolerance, where its edges are pulled
+// inside the ring: a new edge the pull would not check is not made.
+using fan::Cross;
+using fan::kAreaTolerance;
 
-double Cross(const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); }
+constexpr double kNever = std::numeric_limits<double>::infinity();
 
 // The heap's order: the cheapest drop on top, of equal ones the lowest vertex's (a functor, so
 // that the heap's steps inline it).
@@ -29,8 +30,7 @@ struct Later {
 
 }  // namespace
 
-AreaSimplifier::AreaSimplifier(int max_vertices, double epsilon, double inward_weight,
-                               int capacity)
+AreaSimplifier::AreaSimplifier(int max_vertices, double epsilon, double inward_weight, int capacity)
     : max_vertices_(std::max(max_vertices, 3)),
       epsilon_(epsilon),
       inward_weight_(inward_weight),

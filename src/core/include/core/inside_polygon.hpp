@@ -106,8 +106,8 @@ class InsidePolygonBuilder {
   static bool Distinct(std::vector<Vec2>* polygon);
 
   int width_, height_;
-  AreaSimplifier area_;            // the ring's simplification
-  PolygonSimplifier simplifier_;  // where area_ cannot keep N vertices around the sensor
+  AreaSimplifier area_;                  // the ring's simplification
+  PolygonSimplifier simplifier_;         // where area_ cannot keep N vertices around the sensor
   std::vector<int> labels_;              // one label per distinct border cell, in label order
   std::vector<Vec2> end_;                // where each ray ended
   std::vector<RayStop> end_stop_;        // and how
