@@ -1,5 +1,5 @@
-// Bottom-up simplification by least area given up, on a linked ring with a heap of drops; a
-// drop changes its two neighbours' costs, which are pushed again (the old entries go stale).
+// Bottom-up simplification by least area given up, on a linked ring with an indexed heap of its
+// vertices' drops: a drop changes its two neighbours' costs, which move in the heap in place.
 #include "core/area_simplifier.hpp"
 
 #include <algorithm>
@@ -19,15 +19,6 @@ using fan::kAreaTolerance;
 
 constexpr double kNever = std::numeric_limits<double>::infinity();
 
-// The heap's order: the cheapest drop on top, of equal ones the lowest vertex's (a functor, so
-// that the heap's steps inline it).
-struct Later {
-  template <class D>
-  bool operator()(const D& a, const D& b) const {
-    return a.cost > b.cost || (a.cost == b.cost && a.vertex > b.vertex);
-  }
-};
-
 }  // namespace
 
 AreaSimplifier::AreaSimplifier(int max_vertices, double epsilon, double inward_weight, int capacity)
@@ -36,49 +27,83 @@ AreaSimplifier::AreaSimplifier(int max_vertices, double epsilon, double inward_w
       inward_weight_(inward_weight),
       prev_(std::size_t(capacity)),
       next_(std::size_t(capacity)),
-      stamp_(std::size_t(capacity)),
-      deviation_(std::size_t(capacity)),
-      dropped_(std::size_t(capacity)) {
-  heap_.reserve(3 * std::size_t(capacity) + 3);  // each vertex once, then two per drop
-}
+      heap_(std::size_t(capacity)),
+      slot_(std::size_t(capacity)),
+      cost_(std::size_t(capacity)),
+      deviation_(std::size_t(capacity)) {}
 
-AreaSimplifier::Drop AreaSimplifier::Cost(const std::vector<Vec2>& ring, const Vec2& centre,
-                                          int v) const {
-  const int before = prev_[std::size_t(v)];
-  const Vec2& u = ring[std::size_t(before)];
+double AreaSimplifier::Cost(const std::vector<Vec2>& ring, const Vec2& centre, int v) const {
+  const Vec2& u = ring[std::size_t(prev_[std::size_t(v)])];
   const Vec2& w = ring[std::size_t(next_[std::size_t(v)])];
   const Vec2& p = ring[std::size_t(v)];
-  Drop drop{kNever, kNever, kNever, v, stamp_[std::size_t(v)]};
   const auto at_centre = [&](const Vec2& q) { return (q - centre).squaredNorm() <= 1e-18; };
   // A vertex at the centre stays; the new edge u -> w must pass the centre on its left, or end
   // at it.
-  if (at_centre(p)) return drop;
-  if (!at_centre(u) && !at_centre(w) && Cross(w - u, centre - u) <= kAreaTolerance) return drop;
-  const double twice = Cross(w - u, p - u);  // > 0: p is left of the new edge, a reflex vertex
-  const double weight = twice > 0.0 ? inward_weight_ : 1.0;
-  drop.cost = weight * 0.5 * std::abs(twice);
+  if (at_centre(p)) return kNever;
+  if (!at_centre(u) && !at_centre(w) && Cross(w - u, centre - u) <= kAreaTolerance) return kNever;
+  const double twice = Cross(w - u, p - u);
+  return Weight(twice) * 0.5 * std::abs(twice);
+}
+
+double AreaSimplifier::Deviation(const std::vector<Vec2>& ring, int v) const {
+  const int before = prev_[std::size_t(v)];
   // The vertices under u -> v and v -> w lie within their bounds of those edges, whose points
   // lie within p's distance of u -> w (the farthest is an end): the sum bounds them all.
-  drop.deviation = std::max(deviation_[std::size_t(before)], deviation_[std::size_t(v)]) +
-                   DistanceToSegment(p, u, w);
-  drop.distance = weight * drop.deviation;
-  return drop;
+  return std::max(deviation_[std::size_t(before)], deviation_[std::size_t(v)]) +
+         DistanceToSegment(ring[std::size_t(v)], ring[std::size_t(before)],
+                           ring[std::size_t(next_[std::size_t(v)])]);
 }
 
-void AreaSimplifier::Push(const Drop& drop) {
-  heap_.push_back(drop);
-  std::push_heap(heap_.begin(), heap_.end(), Later());
+// The heap's order: the cheapest drop first, of equal ones the lowest vertex's.
+bool AreaSimplifier::Before(int a, int b) const {
+  const double ca = cost_[std::size_t(a)], cb = cost_[std::size_t(b)];
+  return ca < cb || (ca == cb && a < b);
 }
 
-bool AreaSimplifier::Pop(Drop* drop) {
-  while (!heap_.empty()) {
-    std::pop_heap(heap_.begin(), heap_.end(), Later());
-    *drop = heap_.back();
-    heap_.pop_back();
-    const std::size_t v = std::size_t(drop->vertex);
-    if (!dropped_[v] && drop->stamp == stamp_[v]) return true;
+void AreaSimplifier::Place(int at, int v) {
+  heap_[std::size_t(at)] = v;
+  slot_[std::size_t(v)] = at;
+}
+
+void AreaSimplifier::SiftUp(int at) {
+  const int v = heap_[std::size_t(at)];
+  while (at > 0) {
+    const int parent = (at - 1) / 2;
+    if (!Before(v, heap_[std::size_t(parent)])) break;
+    Place(at, heap_[std::size_t(parent)]);
+    at = parent;
   }
-  return false;
+  Place(at, v);
+}
+
+void AreaSimplifier::SiftDown(int at) {
+  const int v = heap_[std::size_t(at)];
+  for (;;) {
+    int child = 2 * at + 1;
+    if (child >= size_) break;
+    if (child + 1 < size_ && Before(heap_[std::size_t(child + 1)], heap_[std::size_t(child)]))
+      ++child;
+    if (!Before(heap_[std::size_t(child)], v)) break;
+    Place(at, heap_[std::size_t(child)]);
+    at = child;
+  }
+  Place(at, v);
+}
+
+void AreaSimplifier::Update(const std::vector<Vec2>& ring, const Vec2& centre, int v) {
+  cost_[std::size_t(v)] = Cost(ring, centre, v);
+  const int at = slot_[std::size_t(v)];
+  SiftUp(at);
+  if (slot_[std::size_t(v)] == at) SiftDown(at);
+}
+
+void AreaSimplifier::RemoveCheapest() {
+  slot_[std::size_t(heap_[0])] = -1;
+  --size_;
+  if (size_ > 0) {
+    Place(0, heap_[std::size_t(size_)]);
+    SiftDown(0);
+  }
 }
 
 double AreaSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& centre,
@@ -90,41 +115,45 @@ double AreaSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& centr
     for (int i = 0; i < n; ++i) kept->push_back(i);
     return 0.0;
   }
-  heap_.clear();
   for (int i = 0; i < n; ++i) {
     prev_[std::size_t(i)] = i > 0 ? i - 1 : n - 1;
     next_[std::size_t(i)] = i + 1 < n ? i + 1 : 0;
-    stamp_[std::size_t(i)] = 0;
     deviation_[std::size_t(i)] = 0.0;
-    dropped_[std::size_t(i)] = 0;
   }
-  for (int i = 0; i < n; ++i) heap_.push_back(Cost(ring, centre, i));
-  std::make_heap(heap_.begin(), heap_.end(), Later());
+  for (int i = 0; i < n; ++i) {
+    cost_[std::size_t(i)] = Cost(ring, centre, i);
+    Place(i, i);
+  }
+  size_ = n;
+  for (int at = n / 2 - 1; at >= 0; --at) SiftDown(at);
   int count = n;
-  Drop drop;
-  while (count > 3 && Pop(&drop)) {
-    if (drop.cost == kNever) break;
-    if (count <= max_vertices_ && drop.distance > epsilon_) break;
-    const int v = drop.vertex, u = prev_[std::size_t(v)], w = next_[std::size_t(v)];
-    dropped_[std::size_t(v)] = 1;
+  while (count > 3 && cost_[std::size_t(heap_[0])] != kNever) {
+    const int v = heap_[0], u = prev_[std::size_t(v)], w = next_[std::size_t(v)];
+    const double deviation = Deviation(ring, v);
+    const Vec2& a = ring[std::size_t(u)];
+    const double twice = Cross(ring[std::size_t(w)] - a, ring[std::size_t(v)] - a);
+    if (count <= max_vertices_ && Weight(twice) * deviation > epsilon_) break;
+    RemoveCheapest();
     next_[std::size_t(u)] = w;
     prev_[std::size_t(w)] = u;
-    deviation_[std::size_t(u)] = drop.deviation;
+    deviation_[std::size_t(u)] = deviation;
     --count;
-    for (const int k : {u, w}) {
-      ++stamp_[std::size_t(k)];
-      Push(Cost(ring, centre, k));
-    }
+    Update(ring, centre, u);
+    Update(ring, centre, w);
   }
   if (count > max_vertices_) return -1.0;
   for (int i = 0; i < n; ++i) {
-    if (!dropped_[std::size_t(i)]) kept->push_back(i);
+    if (slot_[std::size_t(i)] >= 0) kept->push_back(i);
   }
-  // The largest distance of a dropped vertex from the kept edge over it.
+  return KeptError(ring, *kept);
+}
+
+// The largest distance of a dropped vertex from the kept edge over it.
+double AreaSimplifier::KeptError(const std::vector<Vec2>& ring, const std::vector<int>& kept) {
+  const int n = int(ring.size()), m = int(kept.size());
   double error = 0.0;
-  const int m = int(kept->size());
   for (int k = 0; k < m; ++k) {
-    const int a = (*kept)[std::size_t(k)], b = (*kept)[std::size_t(k + 1 < m ? k + 1 : 0)];
+    const int a = kept[std::size_t(k)], b = kept[std::size_t(k + 1 < m ? k + 1 : 0)];
     for (int i = a + 1 < n ? a + 1 : 0; i != b; i = i + 1 < n ? i + 1 : 0) {
       error = std::max(error, DistanceToSegment(ring[std::size_t(i)], ring[std::size_t(a)],
                                                 ring[std::size_t(b)]));

@@ -28,25 +28,31 @@ class AreaSimplifier {
   double Simplify(const std::vector<Vec2>& ring, const Vec2& centre, std::vector<int>* kept);
 
  private:
-  struct Drop {
-    double cost;       // the area given up, weighted when the vertex is reflex
-    double deviation;  // a bound on the distance of the vertices the new edge replaces from it
-    double distance;   // the bound, weighted when the vertex is reflex
-    int vertex;
-    int stamp;  // the vertex's stamp when this was worked out: stale when it changed since
-  };
-  // The drop of vertex v between its current neighbours; cost infinite when not allowed.
-  Drop Cost(const std::vector<Vec2>& ring, const Vec2& centre, int v) const;
-  void Push(const Drop& drop);
-  bool Pop(Drop* drop);  // the cheapest drop still current; false when none is left
+  // The weighted area vertex v's drop between its current neighbours gives up; infinite when
+  // not allowed.
+  double Cost(const std::vector<Vec2>& ring, const Vec2& centre, int v) const;
+  // A bound on the distance from the edge that replaces v of every vertex it replaces.
+  double Deviation(const std::vector<Vec2>& ring, int v) const;
+  // A drop's weight from twice its signed triangle: > 0, v left of the new edge, is reflex.
+  double Weight(double twice) const { return twice > 0.0 ? inward_weight_ : 1.0; }
+  static double KeptError(const std::vector<Vec2>& ring, const std::vector<int>& kept);
+
+  // The heap of the vertices not dropped, by cost then index.
+  bool Before(int a, int b) const;
+  void Place(int at, int v);
+  void SiftUp(int at);
+  void SiftDown(int at);
+  void Update(const std::vector<Vec2>& ring, const Vec2& centre, int v);  // v's cost anew
+  void RemoveCheapest();  // the top vertex, dropped: its slot -1
 
   int max_vertices_;
   double epsilon_;
   double inward_weight_;
-  std::vector<int> prev_, next_, stamp_;
+  std::vector<int> prev_, next_;
+  std::vector<int> heap_, slot_;   // the heap's vertices; each vertex's place in it, -1 dropped
+  std::vector<double> cost_;       // per vertex: its drop's cost
   std::vector<double> deviation_;  // per kept vertex: the bound for the edge that starts at it
-  std::vector<char> dropped_;
-  std::vector<Drop> heap_;
+  int size_ = 0;
 };
 
 }  // namespace freespace
