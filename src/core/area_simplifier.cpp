@@ -129,6 +129,9 @@ double AreaSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& centr
   int count = n;
   while (count > 3 && cost_[std::size_t(heap_[0])] != kNever) {
     const int v = heap_[0], u = prev_[std::size_t(v)], w = next_[std::size_t(v)];
+    // The bound is worked out only for the drop taken. It is the one v's cost had: a drop
+    // changes only its neighbours' links and the bound of the edge from u, and both neighbours
+    // are costed anew at once (Update), so v's inputs are as at its last Update.
     const double deviation = Deviation(ring, v);
     const Vec2& a = ring[std::size_t(u)];
     const double twice = Cross(ring[std::size_t(w)] - a, ring[std::size_t(v)] - a);

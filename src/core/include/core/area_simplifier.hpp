@@ -52,7 +52,7 @@ class AreaSimplifier {
   std::vector<int> heap_, slot_;   // the heap's vertices; each vertex's place in it, -1 dropped
   std::vector<double> cost_;       // per vertex: its drop's cost
   std::vector<double> deviation_;  // per kept vertex: the bound for the edge that starts at it
-  int size_ = 0;
+  int size_ = 0;                   // the heap's length: the vertices not dropped
 };
 
 }  // namespace freespace
