@@ -1,5 +1,6 @@
 // Bottom-up simplification by least area given up, on a linked ring with an indexed heap of its
-// vertices' drops: a drop changes its two neighbours' costs, which move in the heap in place.
+// vertices' drops (core/indexed_heap.hpp): a drop changes its two neighbours' costs, which move
+// in the heap in place.
 #include "core/area_simplifier.hpp"
 
 #include <algorithm>
@@ -27,8 +28,7 @@ AreaSimplifier::AreaSimplifier(int max_vertices, double epsilon, double inward_w
       inward_weight_(inward_weight),
       prev_(std::size_t(capacity)),
       next_(std::size_t(capacity)),
-      heap_(std::size_t(capacity)),
-      slot_(std::size_t(capacity)),
+      heap_(capacity),
       cost_(std::size_t(capacity)),
       deviation_(std::size_t(capacity)) {}
 
@@ -60,52 +60,6 @@ bool AreaSimplifier::Before(int a, int b) const {
   return ca < cb || (ca == cb && a < b);
 }
 
-void AreaSimplifier::Place(int at, int v) {
-  heap_[std::size_t(at)] = v;
-  slot_[std::size_t(v)] = at;
-}
-
-void AreaSimplifier::SiftUp(int at) {
-  const int v = heap_[std::size_t(at)];
-  while (at > 0) {
-    const int parent = (at - 1) / 2;
-    if (!Before(v, heap_[std::size_t(parent)])) break;
-    Place(at, heap_[std::size_t(parent)]);
-    at = parent;
-  }
-  Place(at, v);
-}
-
-void AreaSimplifier::SiftDown(int at) {
-  const int v = heap_[std::size_t(at)];
-  for (;;) {
-    int child = 2 * at + 1;
-    if (child >= size_) break;
-    if (child + 1 < size_ && Before(heap_[std::size_t(child + 1)], heap_[std::size_t(child)]))
-      ++child;
-    if (!Before(heap_[std::size_t(child)], v)) break;
-    Place(at, heap_[std::size_t(child)]);
-    at = child;
-  }
-  Place(at, v);
-}
-
-void AreaSimplifier::Update(const std::vector<Vec2>& ring, const Vec2& centre, int v) {
-  cost_[std::size_t(v)] = Cost(ring, centre, v);
-  const int at = slot_[std::size_t(v)];
-  SiftUp(at);
-  if (slot_[std::size_t(v)] == at) SiftDown(at);
-}
-
-void AreaSimplifier::RemoveCheapest() {
-  slot_[std::size_t(heap_[0])] = -1;
-  --size_;
-  if (size_ > 0) {
-    Place(0, heap_[std::size_t(size_)]);
-    SiftDown(0);
-  }
-}
-
 double AreaSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& centre,
                                 std::vector<int>* kept) {
   kept->clear();
@@ -120,33 +74,32 @@ double AreaSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& centr
     next_[std::size_t(i)] = i + 1 < n ? i + 1 : 0;
     deviation_[std::size_t(i)] = 0.0;
   }
-  for (int i = 0; i < n; ++i) {
-    cost_[std::size_t(i)] = Cost(ring, centre, i);
-    Place(i, i);
-  }
-  size_ = n;
-  for (int at = n / 2 - 1; at >= 0; --at) SiftDown(at);
+  for (int i = 0; i < n; ++i) cost_[std::size_t(i)] = Cost(ring, centre, i);
+  const auto before = [this](int a, int b) { return Before(a, b); };
+  heap_.Fill(n, before);
   int count = n;
-  while (count > 3 && cost_[std::size_t(heap_[0])] != kNever) {
-    const int v = heap_[0], u = prev_[std::size_t(v)], w = next_[std::size_t(v)];
+  while (count > 3 && cost_[std::size_t(heap_.top())] != kNever) {
+    const int v = heap_.top(), u = prev_[std::size_t(v)], w = next_[std::size_t(v)];
     // The bound is worked out only for the drop taken. It is the one v's cost had: a drop
     // changes only its neighbours' links and the bound of the edge from u, and both neighbours
-    // are costed anew at once (Update), so v's inputs are as at its last Update.
+    // are costed anew at once, so v's inputs are as at its cost's.
     const double deviation = Deviation(ring, v);
     const Vec2& a = ring[std::size_t(u)];
     const double twice = Cross(ring[std::size_t(w)] - a, ring[std::size_t(v)] - a);
     if (count <= max_vertices_ && Weight(twice) * deviation > epsilon_) break;
-    RemoveCheapest();
+    heap_.Remove(v, before);
     next_[std::size_t(u)] = w;
     prev_[std::size_t(w)] = u;
     deviation_[std::size_t(u)] = deviation;
     --count;
-    Update(ring, centre, u);
-    Update(ring, centre, w);
+    for (const int k : {u, w}) {
+      cost_[std::size_t(k)] = Cost(ring, centre, k);
+      heap_.Update(k, before);
+    }
   }
   if (count > max_vertices_) return -1.0;
   for (int i = 0; i < n; ++i) {
-    if (slot_[std::size_t(i)] >= 0) kept->push_back(i);
+    if (heap_.contains(i)) kept->push_back(i);
   }
   return KeptError(ring, *kept);
 }

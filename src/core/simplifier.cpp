@@ -35,10 +35,10 @@ bool PointInPolygon(const std::vector<Vec2>& polygon, const Vec2& p) {
 }
 
 PolygonSimplifier::PolygonSimplifier(int max_vertices, double epsilon)
-    : max_vertices_(max_vertices), epsilon_(epsilon) {
-  segments_.resize(std::size_t(std::max(max_vertices, 3) + 1));
-  heap_.resize(segments_.size());
-}
+    : max_vertices_(max_vertices),
+      epsilon_(epsilon),
+      segments_(std::size_t(std::max(max_vertices, 3) + 1)),
+      heap_(std::max(max_vertices, 3) + 1) {}
 
 PolygonSimplifier::Segment PolygonSimplifier::Measure(const std::vector<Vec2>& ring, int from,
                                                       int length) const {
@@ -78,10 +78,9 @@ int PolygonSimplifier::Split(const std::vector<Vec2>& ring, int s, int vertex) {
   const int n = int(ring.size());
   Segment& old = segments_[std::size_t(s)];
   const int first = (vertex - old.from + n) % n, rest = old.length - first;
-  const int next = old.next, slot = old.slot, t = used_++;
+  const int next = old.next, t = used_++;
   old = Measure(ring, old.from, first);
   old.next = t;
-  old.slot = slot;
   segments_[std::size_t(t)] = Measure(ring, vertex, rest);
   segments_[std::size_t(t)].next = next;
   HeapPlace(s);
@@ -95,61 +94,15 @@ bool PolygonSimplifier::Before(int a, int b) const {
   return x.priority > y.priority || (x.priority == y.priority && x.from < y.from);
 }
 
-void PolygonSimplifier::HeapSet(int slot, int s) {
-  heap_[std::size_t(slot)] = s;
-  segments_[std::size_t(s)].slot = slot;
-}
-
-void PolygonSimplifier::SiftUp(int slot) {
-  const int s = heap_[std::size_t(slot)];
-  while (slot > 0) {
-    const int parent = (slot - 1) / 2;
-    if (Before(heap_[std::size_t(parent)], s)) break;
-    HeapSet(slot, heap_[std::size_t(parent)]);
-    slot = parent;
-  }
-  HeapSet(slot, s);
-}
-
-void PolygonSimplifier::SiftDown(int slot) {
-  const int s = heap_[std::size_t(slot)];
-  for (;;) {
-    int child = 2 * slot + 1;
-    if (child >= heap_size_) break;
-    if (child + 1 < heap_size_ &&
-        Before(heap_[std::size_t(child + 1)], heap_[std::size_t(child)])) {
-      ++child;
-    }
-    if (!Before(heap_[std::size_t(child)], s)) break;
-    HeapSet(slot, heap_[std::size_t(child)]);
-    slot = child;
-  }
-  HeapSet(slot, s);
-}
-
-void PolygonSimplifier::HeapRemove(int s) {
-  const int slot = segments_[std::size_t(s)].slot;
-  segments_[std::size_t(s)].slot = -1;
-  const int last = heap_[std::size_t(--heap_size_)];
-  if (last == s) return;
-  HeapSet(slot, last);
-  SiftUp(slot);
-  SiftDown(segments_[std::size_t(last)].slot);
-}
-
 void PolygonSimplifier::HeapPlace(int s) {
-  const Segment& g = segments_[std::size_t(s)];
-  if (g.worst < 0) {
-    if (g.slot >= 0) HeapRemove(s);
-    return;
+  const auto before = [this](int a, int b) { return Before(a, b); };
+  if (segments_[std::size_t(s)].worst < 0) {
+    if (heap_.contains(s)) heap_.Remove(s, before);
+  } else if (heap_.contains(s)) {
+    heap_.Update(s, before);
+  } else {
+    heap_.Push(s, before);
   }
-  if (g.slot < 0) {
-    HeapSet(heap_size_++, s);
-    SiftUp(heap_size_ - 1);
-    return;
-  }
-  SiftUp(g.slot);
-  SiftDown(segments_[std::size_t(s)].slot);
 }
 
 namespace {
@@ -215,7 +168,7 @@ double PolygonSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& in
     if ((ring[i] - ring[0]).squaredNorm() > (ring[far] - ring[0]).squaredNorm()) far = i;
   }
   used_ = 2;
-  heap_size_ = 0;
+  heap_.Clear();
   for (int s = 0; s < 2; ++s) {
     segments_[std::size_t(s)] = s == 0 ? Measure(ring, 0, far) : Measure(ring, far, n - far);
     segments_[std::size_t(s)].next = s == 0 ? 1 : -1;
@@ -242,8 +195,8 @@ double PolygonSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& in
   contain();
 
   // Douglas-Peucker, farthest deviation first, with the paper's stop at N vertices.
-  while (count < max_vertices_ && heap_size_ > 0) {
-    const int s = heap_[0];
+  while (count < max_vertices_ && !heap_.empty()) {
+    const int s = heap_.top();
     if (segments_[std::size_t(s)].priority <= epsilon_ && count >= 3) break;
     Split(ring, s, segments_[std::size_t(s)].worst);
     ++count;

@@ -10,6 +10,7 @@
 
 #include <vector>
 
+#include "core/indexed_heap.hpp"
 #include "freespace/types.hpp"
 
 namespace freespace {
@@ -37,22 +38,16 @@ class AreaSimplifier {
   double Weight(double twice) const { return twice > 0.0 ? inward_weight_ : 1.0; }
   static double KeptError(const std::vector<Vec2>& ring, const std::vector<int>& kept);
 
-  // The heap of the vertices not dropped, by cost then index.
+  // The heap's order of the vertices not dropped: by cost, then index.
   bool Before(int a, int b) const;
-  void Place(int at, int v);
-  void SiftUp(int at);
-  void SiftDown(int at);
-  void Update(const std::vector<Vec2>& ring, const Vec2& centre, int v);  // v's cost anew
-  void RemoveCheapest();  // the top vertex, dropped: its slot -1
 
   int max_vertices_;
   double epsilon_;
   double inward_weight_;
   std::vector<int> prev_, next_;
-  std::vector<int> heap_, slot_;   // the heap's vertices; each vertex's place in it, -1 dropped
+  IndexedHeap heap_;               // the vertices not dropped
   std::vector<double> cost_;       // per vertex: its drop's cost
   std::vector<double> deviation_;  // per kept vertex: the bound for the edge that starts at it
-  int size_ = 0;                   // the heap's length: the vertices not dropped
 };
 
 }  // namespace freespace

@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "core/indexed_heap.hpp"
 #include "freespace/types.hpp"
 
 namespace freespace {
@@ -34,7 +35,6 @@ class PolygonSimplifier {
     double priority = 0.0;   // its distance from the segment, weighted when inward
     double deviation = 0.0;  // the largest distance of an interior vertex from the segment
     int next = -1;           // the following segment in ring order, -1 after the last
-    int slot = -1;           // its place in heap_, -1 when not there (no interior vertex)
   };
   Segment Measure(const std::vector<Vec2>& ring, int from, int length) const;
   // Replaces segment s by two, meeting at ring vertex `vertex`: s keeps the first half, the
@@ -49,19 +49,15 @@ class PolygonSimplifier {
   // The heap of segments with interior vertices, the one to split next on top: the highest
   // priority, and of equal ones the first in ring order (the lowest `from`).
   bool Before(int a, int b) const;
-  void HeapPlace(int s);  // s's priority changed, or s is new: move it where it belongs
-  void HeapRemove(int s);
-  void SiftUp(int slot);
-  void SiftDown(int slot);
-  void HeapSet(int slot, int s);
+  // s's priority changed, or s is new: moves it where it belongs, or out without interior vertices.
+  void HeapPlace(int s);
 
   int max_vertices_;
   double epsilon_;
   double inward_weight_ = 1.0;
   std::vector<Segment> segments_;  // a pool: segment 0 starts at ring vertex 0
   int used_ = 0;
-  std::vector<int> heap_;
-  int heap_size_ = 0;
+  IndexedHeap heap_;  // the segments with interior vertices
 };
 
 // Even-odd point-in-polygon test; a point on the boundary may count either way.
