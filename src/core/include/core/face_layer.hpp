@@ -31,8 +31,9 @@ struct FaceRule {
 // The widest run of beams without echo that counts as a gap in a surface: 8 degrees.
 inline constexpr double kMaxGapDeg = 8.0;
 
-// One part's lists of FaceCells().
-struct FaceLists {
+// One part's lists of FaceCells(). Each part on a cache line of its own: the parts grow their
+// lists from different threads at once.
+struct alignas(64) FaceLists {
   std::vector<std::int32_t> near, seen;
 };
 
