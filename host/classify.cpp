@@ -2,9 +2,12 @@
 // then morphological opening of the free mask (paper IV.A). Mirrors kernels/classify.cl.
 //
 // Thresholds are fixed-point log-odds (p <= t  <=>  l <= T), so "normalising" is a compare.
-// The opening uses a square element of side 2h + 1, separable into row and column passes;
-// cells outside the map count as not free, so the result is the union of all squares of
-// free cells that fit inside the map.
+// The opening's element is the disk 2h + 1 cells across (OpeningHalfWidth()): a stack of rows
+// of half-widths w(dy). Its erosion is the AND over dy of row dy's erosion of row r + dy by
+// w(dy), its dilation likewise with OR, so each row is eroded (dilated) once for each of the
+// distinct half-widths, widening one window into the next, and the column passes pick each
+// row's by its offset. Cells outside the map count as not free, so the result is the union of
+// all disks of free cells that fit inside the map.
 //
 // The masks are handled as bitsets, 64 cells a word: a row erosion is a few shifts and ANDs
 // per word, a column erosion one AND per word and row. The free mask stays a bitset: the
@@ -13,6 +16,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <vector>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -136,11 +140,32 @@ void LevelRow(const LogOdds* m, std::uint64_t* strong, std::uint64_t* weak,
   }
 }
 
-// Pass 2: free0 = strong, or weak with a strong cell among its 8 neighbours; then the row
-// erosion. `lo` / `hi` are the strong rows below / above (null at the map's edge).
+// The row windows of x (a padded row) for each of the element's half-widths `widths` (ascending):
+// the AND (erode) or OR (dilate) of x shifted by -widths[j] .. widths[j] into outs[j], each
+// widened from the one before.
+void RowWindows(const std::uint64_t* x, int words, const std::vector<int>& widths, bool erode,
+                std::uint64_t* const* outs) {
+  RowMorphology(x, words, widths[0], erode, outs[0]);
+  for (std::size_t j = 1; j < widths.size(); ++j) {
+    const std::uint64_t* in = outs[j - 1];
+    std::uint64_t* out = outs[j];
+    for (int w = 0; w < words; ++w) {
+      std::uint64_t v = in[w];
+      for (int d = widths[j - 1] + 1; d <= widths[j]; ++d) {
+        const std::uint64_t right = d < 64 ? Right(x, w, d) : Far(x, words, w, d);
+        const std::uint64_t left = d < 64 ? Left(x, w, d) : Far(x, words, w, -d);
+        v = erode ? (v & right & left) : (v | right | left);
+      }
+      out[w] = v;
+    }
+  }
+}
+
+// Pass 2: free0 = strong, or weak with a strong cell among its 8 neighbours; then its row
+// erosions. `lo` / `hi` are the strong rows below / above (null at the map's edge).
 void HysteresisErodeRow(const std::uint64_t* lo, const std::uint64_t* strong,
-                        const std::uint64_t* hi, const std::uint64_t* weak, std::uint64_t* out,
-                        int words, int h) {
+                        const std::uint64_t* hi, const std::uint64_t* weak, int words,
+                        const std::vector<int>& widths, std::uint64_t* const* outs) {
   PaddedRow near, free0;
   near.Clear(words);
   free0.Clear(words);
@@ -150,35 +175,56 @@ void HysteresisErodeRow(const std::uint64_t* lo, const std::uint64_t* strong,
   for (int w = 0; w < words; ++w) {
     f[w] = strong[w] | (weak[w] & (n[w] | Right(n, w, 1) | Left(n, w, 1)));
   }
-  RowMorphology(f, words, h, true, out);
+  RowWindows(f, words, widths, true, outs);
 }
 
-// Pass 3: column erosion of rows r - h .. r + h, then the row dilation.
-void ErodeColumnsDilateRow(const std::uint64_t* rows, int words, int r, int height, int h,
-                           std::uint64_t valid_last, std::uint64_t* out) {
-  PaddedRow eroded;
-  eroded.Clear(words);
-  std::uint64_t* e = eroded.data();
+// Bitset rows in planes, one per distinct half-width of the opening's element's rows.
+struct Planes {
+  std::uint64_t* base;
+  std::size_t plane, words;  // words a plane, a row
+  const int* index;          // per |dy|: the plane of the element's row dy
+  int count;
+
+  // Row `row` of the plane of the element's row dy.
+  const std::uint64_t* At(int dy, int row) const {
+    return base + std::size_t(index[dy < 0 ? -dy : dy]) * plane + std::size_t(row) * words;
+  }
+  // Row r of every plane, in half-width order.
+  void Rows(int r, std::uint64_t** outs) const {
+    for (int j = 0; j < count; ++j)
+      outs[j] = base + std::size_t(j) * plane + std::size_t(r) * words;
+  }
+};
+
+// Pass 3: the column erosion of rows r - h .. r + h (row r + dy eroded by the element's row dy),
+// then its row dilations.
+void ErodeColumnsDilateRow(const Planes& eroded, int words, int r, int height, int h,
+                           const std::vector<int>& widths, std::uint64_t valid_last,
+                           std::uint64_t* const* outs) {
+  PaddedRow column;
+  column.Clear(words);
+  std::uint64_t* e = column.data();
   if (r < h || r + h >= height) {
     std::fill(e, e + words, 0);
   } else {
-    std::copy(rows + std::size_t(r - h) * words, rows + std::size_t(r - h + 1) * words, e);
-    for (int d = r - h + 1; d <= r + h; ++d) {
-      const std::uint64_t* row = rows + std::size_t(d) * words;
+    std::copy(eroded.At(-h, r - h), eroded.At(-h, r - h) + words, e);
+    for (int dy = -h + 1; dy <= h; ++dy) {
+      const std::uint64_t* row = eroded.At(dy, r + dy);
       for (int w = 0; w < words; ++w) e[w] &= row[w];
     }
   }
-  RowMorphology(e, words, h, false, out);
-  out[words - 1] &= valid_last;  // nothing beyond the row's last cell
+  RowWindows(e, words, widths, false, outs);
+  for (std::size_t j = 0; j < widths.size(); ++j) outs[j][words - 1] &= valid_last;
 }
 
-// Pass 4: column dilation of rows r - h .. r + h, less the vetoed cells (null: none).
-void DilateColumnsRow(const std::uint64_t* rows, int words, int r, int height, int h,
+// Pass 4: the column dilation of rows r - h .. r + h inside the map (row r + dy dilated by the
+// element's row dy), less the vetoed cells (null: none).
+void DilateColumnsRow(const Planes& dilated, int words, int r, int height, int h,
                       const std::uint64_t* veto, std::uint64_t* out) {
   const int d0 = std::max(0, r - h), d1 = std::min(height - 1, r + h);
-  std::copy(rows + std::size_t(d0) * words, rows + std::size_t(d0 + 1) * words, out);
+  std::copy(dilated.At(d0 - r, d0), dilated.At(d0 - r, d0) + words, out);
   for (int d = d0 + 1; d <= d1; ++d) {
-    const std::uint64_t* row = rows + std::size_t(d) * words;
+    const std::uint64_t* row = dilated.At(d - r, d);
     for (int w = 0; w < words; ++w) out[w] |= row[w];
   }
   if (veto != nullptr) {
@@ -198,8 +244,11 @@ void HostBackend::Classify() {
   std::uint64_t* strong = bits_strong_.data();
   std::uint64_t* weak = bits_weak_.data();
   std::uint64_t* unconfirmed = bits_unconfirmed_.data();
-  std::uint64_t* a = bits_a_.data();
-  std::uint64_t* b = bits_b_.data();
+  // Per half-width of the element (opening_widths_), the rows' erosions and dilations.
+  const std::vector<int>& widths = opening_widths_;
+  const std::size_t plane = std::size_t(height) * nw;
+  const Planes eroded{bits_eroded_.data(), plane, nw, opening_index_.data(), int(widths.size())};
+  const Planes dilated{bits_dilated_.data(), plane, nw, opening_index_.data(), int(widths.size())};
   std::uint64_t* f = free_.data();
 
   // Where an unknown cell is on no level (t_high < 0, as every valid config has it), the rows
@@ -224,15 +273,21 @@ void HostBackend::Classify() {
     LevelRow(map + r * w, strong + r * nw, weak + r * nw, unconfirmed + r * nw, width, t_low,
              t_high);
   });
-  rows(bits, [=](int r) {
+  rows(bits, [=, &widths](int r) {
+    std::uint64_t* outs[kMaxOpeningWidths];
+    eroded.Rows(r, outs);
     HysteresisErodeRow(r > 0 ? strong + (r - 1) * nw : nullptr, strong + r * nw,
-                       r + 1 < height ? strong + (r + 1) * nw : nullptr, weak + r * nw, a + r * nw,
-                       words, h);
+                       r + 1 < height ? strong + (r + 1) * nw : nullptr, weak + r * nw, words,
+                       widths, outs);
   });
-  rows(bits, [=](int r) { ErodeColumnsDilateRow(a, words, r, height, h, valid_last, b + r * nw); });
+  rows(bits, [=, &widths](int r) {
+    std::uint64_t* outs[kMaxOpeningWidths];
+    dilated.Rows(r, outs);
+    ErodeColumnsDilateRow(eroded, words, r, height, h, widths, valid_last, outs);
+  });
   const std::uint64_t* veto = params_.veto_echoes ? echo_.data() : nullptr;
   rows(set_free.Hull(free_rows_), [=](int r) {
-    DilateColumnsRow(b, words, r, height, h, veto ? veto + r * nw : nullptr, f + r * nw);
+    DilateColumnsRow(dilated, words, r, height, h, veto ? veto + r * nw : nullptr, f + r * nw);
   });
   bits_rows_ = set;
   free_rows_ = set_free;

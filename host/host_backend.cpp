@@ -6,6 +6,7 @@
 #include <array>
 #include <cstring>
 #include <string>
+#include <utility>
 
 #include "freespace/errors.hpp"
 
@@ -19,8 +20,6 @@ HostBackend::HostBackend(const KernelParams& params, int threads)
       update_(cells(), kUpdateNone),
       bits_strong_(std::size_t(params.height) * ((params.width + 63) / 64), 0),
       bits_weak_(bits_strong_.size(), 0),
-      bits_a_(bits_strong_.size(), 0),
-      bits_b_(bits_strong_.size(), 0),
       bits_unconfirmed_(bits_strong_.size(), 0),
       free_(bits_strong_.size(), 0),
       echo_(bits_strong_.size(), 0),
@@ -38,6 +37,16 @@ HostBackend::HostBackend(const KernelParams& params, int threads)
                        std::to_string(params.height) + " cells; each side must be 1 .. 8192");
   }
   echo_words_.reserve(16384);
+  const int h = params.opening_radius;
+  if (h < 0 || h >= kMaxOpeningWidths) {
+    throw BackendError("tbb backend: opening radius of " + std::to_string(h) +
+                       " cells; it must be 0 .. " + std::to_string(kMaxOpeningWidths - 1));
+  }
+  OpeningRows opening = MakeOpeningRows(h);
+  opening_widths_ = std::move(opening.widths);
+  opening_index_ = std::move(opening.index);
+  bits_eroded_.assign(opening_widths_.size() * bits_strong_.size(), 0);
+  bits_dilated_.assign(bits_eroded_.size(), 0);
 }
 
 void HostBackend::Clear() {

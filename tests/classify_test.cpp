@@ -1,5 +1,6 @@
 // Kernel stage 3: neighbourhood hysteresis and morphological opening. Hand-made grids, OpenCV's
 // morphologyEx as an independent oracle for the opening, and both backends.
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <random>
 
@@ -84,6 +85,55 @@ TEST_P(ClassifyTest, OpeningKeepsOneCellHolesAndDropsNarrowCorridors) {
             ".......\n.FFFFF.\n.FFFFF.\n.FFFFF.\n.......\n.......\n.......\n");
 }
 
+// The opening's element for OpenCV: the cells whose centres lie within radius + 1/2 of the
+// centre's, worked out here in floating point.
+cv::Mat Disk(int radius) {
+  const int side = 2 * radius + 1;
+  cv::Mat disk(side, side, CV_8UC1);
+  for (int dy = -radius; dy <= radius; ++dy) {
+    for (int dx = -radius; dx <= radius; ++dx) {
+      disk.at<std::uint8_t>(dy + radius, dx + radius) =
+          std::hypot(double(dx), double(dy)) <= radius + 0.5 ? 1 : 0;
+    }
+  }
+  return disk;
+}
+
+TEST(OpeningElement, IsADiskAsWideAsTheSquare) {
+  // Radius 4 (a 1.8 m vehicle on 0.2 m cells): rows of half-widths 4, 4, 4, 3, 2 from the centre.
+  const int expected[] = {4, 4, 4, 3, 2};
+  for (int dy = 0; dy <= 4; ++dy) {
+    EXPECT_EQ(OpeningHalfWidth(4, dy), expected[dy]) << dy;
+    EXPECT_EQ(OpeningHalfWidth(4, -dy), expected[dy]) << dy;
+  }
+  for (int radius = 0; radius <= 127; ++radius) {
+    EXPECT_EQ(OpeningHalfWidth(radius, 0), radius);
+    for (int dy = 0; dy <= radius; ++dy) {
+      const int w = OpeningHalfWidth(radius, dy);
+      EXPECT_LE(std::hypot(double(w), double(dy)), radius + 0.5) << radius << " " << dy;
+      EXPECT_GT(std::hypot(double(w + 1), double(dy)), radius + 0.5) << radius << " " << dy;
+    }
+  }
+}
+
+TEST_P(ClassifyTest, OpeningKeepsADiagonalPassageAsWideAsTheElement) {
+  // A passage 7 cells wide across at 45 degrees (every cell within 3.5 cells of the diagonal):
+  // the disk of radius 3 (7 cells across) runs along it; a 7 x 7 square, 9.9 cells across its
+  // diagonal, would fit nowhere.
+  const int n = 40;
+  FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), test::SmallParams(n, n, 3));
+  std::vector<LogOdds> map(std::size_t(n) * n, 200);
+  for (int r = 0; r < n; ++r) {
+    for (int c = 0; c < n; ++c) {
+      if (std::abs(c - r) / std::sqrt(2.0) <= 3.5) map[std::size_t(r) * n + c] = -300;
+    }
+  }
+  const auto free = Classified(*backend, map);
+  for (int k = 8; k < n - 8; ++k) {
+    EXPECT_TRUE(free[std::size_t(k) * n + k]) << "on the diagonal at " << k;
+  }
+}
+
 TEST_P(ClassifyTest, OpeningMatchesOpenCvOnRandomMasks) {
   std::mt19937 rng(13);
   for (const auto& [width, height] : std::vector<std::pair<int, int>>{
@@ -91,8 +141,8 @@ TEST_P(ClassifyTest, OpeningMatchesOpenCvOnRandomMasks) {
     for (const int radius : {0, 1, 2, 4, 5, 31, 32, 70}) {
       if (width == 1500 && radius != 4) continue;
       if (radius > 4 && width != 64 && width != 301) continue;
-      // Wide elements need denser masks for some squares to fit: about one not-free cell per
-      // three elements' area.
+      // Wide elements need denser masks for some disks to fit: about one not-free cell per
+      // three squares' area.
       const double not_free = radius <= 4 ? 0.2 : 0.3 / double((2 * radius + 1) * (2 * radius + 1));
       std::uniform_real_distribution<double> uniform(0.0, 1.0);
       FREESPACE_BACKEND_OR_SKIP(backend, GetParam(), test::SmallParams(width, height, radius));
@@ -107,10 +157,8 @@ TEST_P(ClassifyTest, OpeningMatchesOpenCvOnRandomMasks) {
         }
       }
       cv::Mat opened;
-      const int side = 2 * radius + 1;
-      cv::morphologyEx(strong, opened, cv::MORPH_OPEN,
-                       cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)),
-                       cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+      cv::morphologyEx(strong, opened, cv::MORPH_OPEN, Disk(radius), cv::Point(-1, -1), 1,
+                       cv::BORDER_CONSTANT, cv::Scalar(0));
       const auto free = Classified(*backend, map);
       for (int r = 0; r < height; ++r) {
         for (int c = 0; c < width; ++c) {

@@ -98,7 +98,7 @@ struct AlignmentConfig {
 struct ClassifyConfig {
   double t_low = 0.42;           // free if p <= t_low; (0, t_high]
   double t_high = 0.48;          // also free if p <= t_high next to a t_low cell; [t_low, 0.5)
-  double vehicle_width_m = 1.8;  // opening element: odd square of about this width; >= 0
+  double vehicle_width_m = 1.8;  // opening element: a disk of about this width; >= 0
   // The cells holding an echo of the current scan (after the clutter filter) are not free in
   // this scan's free mask, whatever the map holds, so that the border rays and the polygon stop
   // in front of an obstacle that moved into space the map calls free. The map keeps the

@@ -74,6 +74,14 @@ std::string OpenClBackend::BuildOptions(const KernelParams& p, int vectors_per_i
     << " -DRASTER_GROUP=" << raster_group << " -DRASTER_SERIAL=" << (bands ? 1 : 0)
     << " -DMARGIN_CELLS=" << p.margin_cells << " -DCONE_COS=(" << p.cone_cos << ") -DCONE_SIN=("
     << p.cone_sin << ") -DMARGIN_ALL=" << (p.margin_all ? 1 : 0);
+  // The opening's disk (classify.cl): its distinct row half-widths as bits, and each |dy|'s.
+  const OpeningRows opening = MakeOpeningRows(p.opening_radius);
+  std::uint64_t stops[2] = {0, 0};
+  for (const int w : opening.widths) stops[w / 64] |= std::uint64_t{1} << (w % 64);
+  std::string index;
+  for (const int i : opening.index) index += (index.empty() ? "" : ",") + std::to_string(i);
+  o << " -DOPENING_KINDS=" << opening.widths.size() << " -DOPENING_STOPS_LO=" << stops[0]
+    << "UL -DOPENING_STOPS_HI=" << stops[1] << "UL -DOPENING_INDEX=" << index;
   return o.str();
 }
 
@@ -227,16 +235,19 @@ void OpenClBackend::AllocateBuffers() {
   }
   // The three-kernel stage 3's intermediates; classify_bands (the CPU shape) keeps its rows in
   // band_rows_ instead.
+  // b and c hold a plane per distinct row half-width of the opening's element.
+  const std::size_t kinds = MakeOpeningRows(params_.opening_radius).widths.size();
   const std::size_t between_bytes = bands_ ? 8 : mask_bytes;
+  const std::size_t planes_bytes = bands_ ? 8 : kinds * mask_bytes;
   bits_a_ = buffer(between_bytes);
-  bits_b_ = buffer(between_bytes);
-  bits_c_ = buffer(between_bytes);
+  bits_b_ = buffer(planes_bytes);
+  bits_c_ = buffer(planes_bytes);
   free_ = buffer(mask_bytes);
   // classify_bands: at most kClassifyBandsPerUnit bands of whole rows per compute unit, each
   // CLASSIFY_BAND_ROWS (classify.cl) bitset rows of scratch, in the CPU shape only.
   const std::size_t classify_bands =
       std::max<std::size_t>(opencl::kClassifyBandsPerUnit * compute_units_, std::size_t(devices_));
-  const std::size_t band_rows = std::size_t(4 * params_.opening_radius + 3);
+  const std::size_t band_rows = 2 * std::size_t(2 * params_.opening_radius + 1) * kinds + 1;
   band_rows_ = buffer(bands_ ? classify_bands * band_rows * std::size_t(BitWords()) * 8 : 8);
   stop_ = buffer(labels() * 4);
   claims_ = buffer(4);
@@ -258,8 +269,8 @@ void OpenClBackend::AllocateBuffers() {
     Fill(weak_[k].get(), level_bytes);
   }
   Fill(bits_a_.get(), between_bytes);
-  Fill(bits_b_.get(), between_bytes);
-  Fill(bits_c_.get(), between_bytes);
+  Fill(bits_b_.get(), planes_bytes);
+  Fill(bits_c_.get(), planes_bytes);
   Fill(free_.get(), mask_bytes);
   Fill(delta_.get(), padded * 4);
 }

@@ -19,6 +19,9 @@
 
 namespace freespace {
 
+// The most distinct row half-widths the opening's element may have (radius 0 .. 127).
+inline constexpr int kMaxOpeningWidths = 128;
+
 class HostBackend final : public Backend {
  public:
   // threads: 0 = all cores.
@@ -65,15 +68,19 @@ class HostBackend final : public Backend {
   // Every row of map_ (of map_scratch_) with a non-zero cell lies in known_ (scratch_known_).
   RowSpan known_;
   RowSpan scratch_known_;
-  // Every row with a set bit in stage 3's intermediate bitsets (strong, weak, a, b), and in
-  // free_.
+  // Every row with a set bit in stage 3's intermediate bitsets (the levels, the erosions and the
+  // dilations), and in free_.
   RowSpan bits_rows_;
   RowSpan free_rows_;
   std::vector<std::uint8_t> update_;  // stage 1 -> stage 2
   // Stage 3 bitsets, 64 cells a word, rows of (width + 63) / 64 words; bits_unconfirmed_:
   // log-odds >= 0, the margin's sources in stage 3b, on the rows of bits_rows_ (every other row
   // is unknown).
-  std::vector<std::uint64_t> bits_strong_, bits_weak_, bits_a_, bits_b_, bits_unconfirmed_;
+  std::vector<std::uint64_t> bits_strong_, bits_weak_, bits_unconfirmed_;
+  // The opening's distinct row half-widths (OpeningHalfWidth(), ascending), each |dy|'s place
+  // among them, and per half-width a plane of bitset rows of the rows' erosions and dilations.
+  std::vector<int> opening_widths_, opening_index_;
+  std::vector<std::uint64_t> bits_eroded_, bits_dilated_;
   std::vector<std::uint64_t> free_;       // stage 3 output, stage 4 input: bitset rows
   std::vector<std::uint64_t> echo_;       // this scan's echo cells (SetEchoes), bitset rows
   std::vector<std::int32_t> echo_words_;  // the words they set, to clear for the next scan

@@ -36,7 +36,7 @@ struct KernelParams {
   LogOdds l_max = 0;
   LogOdds t_low = 0;       // free if l <= t_low
   LogOdds t_high = 0;      // weak free if l <= t_high (free when next to a t_low cell)
-  int opening_radius = 0;  // opening element is a square of side 2 * radius + 1 cells
+  int opening_radius = 0;  // the opening's element: a disk 2 * radius + 1 cells across
   // The per-scan veto (classify.veto_current_echoes): this scan's echo cells are not free.
   bool veto_echoes = false;
   // The polygon mask's safety margin (stage 3b): `margin_cells` k (0: none), and the cone's
@@ -47,6 +47,39 @@ struct KernelParams {
   std::int32_t cone_sin = 0;
   bool margin_all = true;
 };
+
+// The opening's element for KernelParams::opening_radius h: the cells whose centres lie within
+// h + 1/2 cells of its centre's, a disk as wide as the odd square of side 2h + 1 across, in every
+// direction (a square is wider along its diagonals: it would take out diagonal passages up to
+// sqrt 2 times the vehicle's width). Its row dy (|dy| <= h) spans the columns -w .. w, the largest
+// w with (2w)^2 + (2dy)^2 <= (2h + 1)^2. kernels/classify.cl gets its rows as build options
+// (MakeOpeningRows()).
+inline int OpeningHalfWidth(int h, int dy) {
+  const std::int64_t room = std::int64_t(2 * h + 1) * (2 * h + 1) - 4 * std::int64_t(dy) * dy;
+  int w = h;
+  while (w > 0 && 4 * std::int64_t(w) * w > room) --w;
+  return w;
+}
+
+// The opening's element as its distinct row half-widths: `widths` ascending (the last is h), and
+// per |dy| = 0 .. h the place of row dy's half-width among them.
+struct OpeningRows {
+  std::vector<int> widths, index;
+};
+inline OpeningRows MakeOpeningRows(int h) {
+  OpeningRows rows;
+  for (int dy = h; dy >= 0; --dy) {  // the half-widths grow toward the centre row
+    const int w = OpeningHalfWidth(h, dy);
+    if (rows.widths.empty() || rows.widths.back() != w) rows.widths.push_back(w);
+  }
+  rows.index.resize(std::size_t(h) + 1);
+  for (int dy = 0; dy <= h; ++dy) {
+    rows.index[std::size_t(dy)] =
+        int(std::find(rows.widths.begin(), rows.widths.end(), OpeningHalfWidth(h, dy)) -
+            rows.widths.begin());
+  }
+  return rows;
+}
 
 // The scale of KernelParams::cone_cos and cone_sin.
 inline constexpr std::int32_t kConeOne = 1 << 20;
