@@ -26,9 +26,9 @@
 // In the CPU work shape (src/opencl/backend.cpp), one kernel, classify_bands: one work-item per
 // band of rows runs all the passes down its band, keeping only the rows a column window still
 // needs (in rings of 2 OPENING_RADIUS + 1 rows of every plane), and recomputes the
-// 2 OPENING_RADIUS rows beyond each end of its band that the column windows reach. Every row goes through the same functions
-// as above, so the bits are the same; a scan saves two commands and the passes over whole-map
-// intermediates.
+// 2 OPENING_RADIUS rows beyond each end of its band that the column windows reach. Every row goes
+// through the same functions as above, so the bits are the same; a scan saves two commands and
+// the passes over whole-map intermediates.
 //
 // Build options: T_LOW, T_HIGH, OPENING_RADIUS, the disk's rows (MakeOpeningRows in
 // src/core/include/core/backend.hpp): OPENING_KINDS distinct half-widths, as bits 0 .. 127 of
@@ -190,7 +190,8 @@ __kernel void classify_dilate_cols(__global const ulong* c, __global ulong* free
   __global ulong* out = free + r * BIT_WORDS;
   for (int w = w0; w < w1; ++w) out[w] = 0;
   for (int d = d0; d <= d1; ++d) {
-    __global const ulong* in = c + (size_t)CLASSIFY_PLANE(d - r) * HEIGHT * BIT_WORDS + d * BIT_WORDS;
+    __global const ulong* in =
+        c + (size_t)CLASSIFY_PLANE(d - r) * HEIGHT * BIT_WORDS + d * BIT_WORDS;
     for (int w = w0; w < w1; ++w) out[w] |= in[w];
   }
 }
