@@ -196,7 +196,8 @@ void VisitClassify(C& t, Visitor& v) {
   v("t_high", t.t_high,
     {"", Open(0, 0.5), "also free if p <= t_high next to a t_low cell; unknown is never free"});
   v("vehicle_width_m", t.vehicle_width_m,
-    {"m", AtLeast(0), "opening element: an odd square of about this width"});
+    {"m", AtLeast(0),
+     "opening element: a disk of about this width (an odd number of cells across)"});
   v("veto_current_echoes", t.veto_current_echoes,
     {"", {}, "this scan's echo cells are not free this scan, whatever the map holds"});
 }

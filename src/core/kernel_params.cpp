@@ -31,7 +31,8 @@ KernelParams MakeKernelParams(const Config& config) {
   p.l_max = LogOddsFromProbability(config.sensor_model.p_max);
   p.t_low = LogOddsThreshold(config.classify.t_low);
   p.t_high = LogOddsThreshold(config.classify.t_high);
-  // An odd square about the vehicle's width: side 2h + 1 closest to width / resolution.
+  // The opening's disk about the vehicle's width: 2h + 1 cells across, closest to width /
+  // resolution.
   const double side = config.classify.vehicle_width_m / config.map.resolution_m;
   p.opening_radius = int(std::max(0L, std::lround((side - 1.0) / 2.0)));
   p.veto_echoes = config.classify.veto_current_echoes;
