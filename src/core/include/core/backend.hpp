@@ -276,8 +276,8 @@ class Backend {
   virtual void FuseRays(int row_begin, int row_end) = 0;
 
   // Kernel stage 3. Whole map: strong = l <= t_low, weak = l <= t_high; free0 = strong, or
-  // weak with a strong 8-neighbour; free = opening of free0 by the square element (cells
-  // outside the map are not free).
+  // weak with a strong 8-neighbour; free = opening of free0 by the disk (OpeningHalfWidth();
+  // cells outside the map are not free).
   virtual void Classify() = 0;
 
   // Kernel stage 4. Casts a Bresenham ray from `vehicle` to every border cell (label order);
