@@ -94,36 +94,36 @@ ulong ClassifyShifted(__global const ulong* row, int w, int d) {
 
 // Whether d is one of the half-widths (OPENING_STOPS_LO, _HI: bit d, d - 64).
 #define CLASSIFY_STOP(d) \
-  ((d) < 64 ? (OPENING_STOPS_LO >> (d)) & 1 : (OPENING_STOPS_HI >> ((d) - 64)) & 1)
+  ((d) < 64 ? (OPENING_STOPS_LO >> (d)) & 1 : (OPENING_STOPS_HI >> ((d)-64)) & 1)
 
 // The AND (erode) or OR (dilate) of words [w0, w1) of `row` shifted by -w .. w within the row
 // for each of the disk's half-widths w, the j-th smallest into plane j of `out` (planes `plane`
 // words apart): one window, widened a cell at a time, stored at each half-width. A dilation keeps
 // the bits inside the map.
-#define CLASSIFY_ROW_WINDOWS(Name, op, keep)                                          \
+#define CLASSIFY_ROW_WINDOWS(Name, op, keep)                                                \
   void Name(__global const ulong* row, int w0, int w1, __global ulong* out, size_t plane) { \
-    for (int w = w0; w < w1; ++w) {                                                   \
-      const ulong x = row[w];                                                         \
-      const ulong prev = w > 0 ? row[w - 1] : 0;                                      \
-      const ulong next = w + 1 < BIT_WORDS ? row[w + 1] : 0;                          \
-      ulong v = x;                                                                    \
-      size_t at = w;                                                                  \
-      if (CLASSIFY_STOP(0)) {                                                         \
-        out[at] = v & (keep);                                                         \
-        at += plane;                                                                  \
-      }                                                                               \
-      for (int d = 1; d <= OPENING_RADIUS; ++d) {                                     \
-        if (d < 64) {                                                                 \
-          v = v op((x >> d) | (next << (64 - d))) op((x << d) | (prev >> (64 - d)));    \
-        } else {                                                                      \
-          v = v op ClassifyShifted(row, w, d) op ClassifyShifted(row, w, -d);           \
-        }                                                                             \
-        if (CLASSIFY_STOP(d)) {                                                       \
-          out[at] = v & (keep);                                                       \
-          at += plane;                                                                \
-        }                                                                             \
-      }                                                                               \
-    }                                                                                 \
+    for (int w = w0; w < w1; ++w) {                                                         \
+      const ulong x = row[w];                                                               \
+      const ulong prev = w > 0 ? row[w - 1] : 0;                                            \
+      const ulong next = w + 1 < BIT_WORDS ? row[w + 1] : 0;                                \
+      ulong v = x;                                                                          \
+      size_t at = w;                                                                        \
+      if (CLASSIFY_STOP(0)) {                                                               \
+        out[at] = v & (keep);                                                               \
+        at += plane;                                                                        \
+      }                                                                                     \
+      for (int d = 1; d <= OPENING_RADIUS; ++d) {                                           \
+        if (d < 64) {                                                                       \
+          v = v op((x >> d) | (next << (64 - d))) op((x << d) | (prev >> (64 - d)));        \
+        } else {                                                                            \
+          v = v op ClassifyShifted(row, w, d) op ClassifyShifted(row, w, -d);               \
+        }                                                                                   \
+        if (CLASSIFY_STOP(d)) {                                                             \
+          out[at] = v & (keep);                                                             \
+          at += plane;                                                                      \
+        }                                                                                   \
+      }                                                                                     \
+    }                                                                                       \
   }
 CLASSIFY_ROW_WINDOWS(ClassifyErodeRows, &, ~0UL)
 CLASSIFY_ROW_WINDOWS(ClassifyDilateRows, |, ClassifyValidBits(w))
