@@ -1,6 +1,6 @@
-// Bottom-up simplification by least area given up, on a linked ring with an indexed heap of its
-// vertices' drops (core/indexed_heap.hpp): a drop changes its two neighbours' costs, which move
-// in the heap in place.
+// Bottom-up simplification by least area given up, on a linked ring with a tournament tree of its
+// vertices' drops (core/min_tree.hpp): a drop changes its two neighbours' costs, which the tree
+// takes in place.
 #include "core/area_simplifier.hpp"
 
 #include <algorithm>
@@ -28,7 +28,8 @@ AreaSimplifier::AreaSimplifier(int max_vertices, double epsilon, double inward_w
       inward_weight_(inward_weight),
       prev_(std::size_t(capacity)),
       next_(std::size_t(capacity)),
-      heap_(capacity),
+      tree_(capacity),
+      dropped_(std::size_t(capacity)),
       cost_(std::size_t(capacity)),
       deviation_(std::size_t(capacity)) {}
 
@@ -54,12 +55,6 @@ double AreaSimplifier::Deviation(const std::vector<Vec2>& ring, int v) const {
                            ring[std::size_t(next_[std::size_t(v)])]);
 }
 
-// The heap's order: the cheapest drop first, of equal ones the lowest vertex's.
-bool AreaSimplifier::Before(int a, int b) const {
-  const double ca = cost_[std::size_t(a)], cb = cost_[std::size_t(b)];
-  return ca < cb || (ca == cb && a < b);
-}
-
 double AreaSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& centre,
                                 std::vector<int>* kept) {
   kept->clear();
@@ -73,13 +68,14 @@ double AreaSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& centr
     prev_[std::size_t(i)] = i > 0 ? i - 1 : n - 1;
     next_[std::size_t(i)] = i + 1 < n ? i + 1 : 0;
     deviation_[std::size_t(i)] = 0.0;
+    dropped_[std::size_t(i)] = 0;
   }
   for (int i = 0; i < n; ++i) cost_[std::size_t(i)] = Cost(ring, centre, i);
-  const auto before = [this](int a, int b) { return Before(a, b); };
-  heap_.Fill(n, before);
+  // The cheapest drop first, of equal ones the lowest vertex's.
+  tree_.Fill(cost_.data(), n);
   int count = n;
-  while (count > 3 && cost_[std::size_t(heap_.top())] != kNever) {
-    const int v = heap_.top(), u = prev_[std::size_t(v)], w = next_[std::size_t(v)];
+  while (count > 3 && tree_.top_key() != kNever) {
+    const int v = tree_.top(), u = prev_[std::size_t(v)], w = next_[std::size_t(v)];
     // The bound is worked out only for the drop taken. It is the one v's cost had: a drop
     // changes only its neighbours' links and the bound of the edge from u, and both neighbours
     // are costed anew at once, so v's inputs are as at its cost's.
@@ -87,19 +83,20 @@ double AreaSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& centr
     const Vec2& a = ring[std::size_t(u)];
     const double twice = Cross(ring[std::size_t(w)] - a, ring[std::size_t(v)] - a);
     if (count <= max_vertices_ && Weight(twice) * deviation > epsilon_) break;
-    heap_.Remove(v, before);
+    tree_.Set(v, MinTree::kNone);
+    dropped_[std::size_t(v)] = 1;
     next_[std::size_t(u)] = w;
     prev_[std::size_t(w)] = u;
     deviation_[std::size_t(u)] = deviation;
     --count;
     for (const int k : {u, w}) {
       cost_[std::size_t(k)] = Cost(ring, centre, k);
-      heap_.Update(k, before);
+      tree_.Set(k, cost_[std::size_t(k)]);
     }
   }
   if (count > max_vertices_) return -1.0;
   for (int i = 0; i < n; ++i) {
-    if (heap_.contains(i)) kept->push_back(i);
+    if (!dropped_[std::size_t(i)]) kept->push_back(i);
   }
   return KeptError(ring, *kept);
 }

@@ -10,7 +10,7 @@
 
 #include <vector>
 
-#include "core/indexed_heap.hpp"
+#include "core/min_tree.hpp"
 #include "freespace/types.hpp"
 
 namespace freespace {
@@ -38,14 +38,12 @@ class AreaSimplifier {
   double Weight(double twice) const { return twice > 0.0 ? inward_weight_ : 1.0; }
   static double KeptError(const std::vector<Vec2>& ring, const std::vector<int>& kept);
 
-  // The heap's order of the vertices not dropped: by cost, then index.
-  bool Before(int a, int b) const;
-
   int max_vertices_;
   double epsilon_;
   double inward_weight_;
   std::vector<int> prev_, next_;
-  IndexedHeap heap_;               // the vertices not dropped
+  MinTree tree_;                   // the costs of the vertices not dropped
+  std::vector<char> dropped_;      // per vertex: dropped
   std::vector<double> cost_;       // per vertex: its drop's cost
   std::vector<double> deviation_;  // per kept vertex: the bound for the edge that starts at it
 };
