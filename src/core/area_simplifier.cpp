@@ -30,6 +30,7 @@ AreaSimplifier::AreaSimplifier(int max_vertices, double epsilon, double inward_w
       next_(std::size_t(capacity)),
       tree_(capacity),
       dropped_(std::size_t(capacity)),
+      at_centre_(std::size_t(capacity)),
       cost_(std::size_t(capacity)),
       deviation_(std::size_t(capacity)) {}
 
@@ -37,11 +38,12 @@ double AreaSimplifier::Cost(const std::vector<Vec2>& ring, const Vec2& centre, i
   const Vec2& u = ring[std::size_t(prev_[std::size_t(v)])];
   const Vec2& w = ring[std::size_t(next_[std::size_t(v)])];
   const Vec2& p = ring[std::size_t(v)];
-  const auto at_centre = [&](const Vec2& q) { return (q - centre).squaredNorm() <= 1e-18; };
   // A vertex at the centre stays; the new edge u -> w must pass the centre on its left, or end
   // at it.
-  if (at_centre(p)) return kNever;
-  if (!at_centre(u) && !at_centre(w) && Cross(w - u, centre - u) <= kAreaTolerance) return kNever;
+  if (at_centre_[std::size_t(v)]) return kNever;
+  if (!at_centre_[std::size_t(prev_[std::size_t(v)])] &&
+      !at_centre_[std::size_t(next_[std::size_t(v)])] && Cross(w - u, centre - u) <= kAreaTolerance)
+    return kNever;
   const double twice = Cross(w - u, p - u);
   return Weight(twice) * 0.5 * std::abs(twice);
 }
@@ -69,6 +71,7 @@ double AreaSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& centr
     next_[std::size_t(i)] = i + 1 < n ? i + 1 : 0;
     deviation_[std::size_t(i)] = 0.0;
     dropped_[std::size_t(i)] = 0;
+    at_centre_[std::size_t(i)] = (ring[std::size_t(i)] - centre).squaredNorm() <= 1e-18;
   }
   for (int i = 0; i < n; ++i) cost_[std::size_t(i)] = Cost(ring, centre, i);
   // The cheapest drop first, of equal ones the lowest vertex's.
@@ -101,18 +104,19 @@ double AreaSimplifier::Simplify(const std::vector<Vec2>& ring, const Vec2& centr
   return KeptError(ring, *kept);
 }
 
-// The largest distance of a dropped vertex from the kept edge over it.
+// The largest distance of a dropped vertex from the kept edge over it: the root of the largest
+// square, which is the same number.
 double AreaSimplifier::KeptError(const std::vector<Vec2>& ring, const std::vector<int>& kept) {
   const int n = int(ring.size()), m = int(kept.size());
   double error = 0.0;
   for (int k = 0; k < m; ++k) {
     const int a = kept[std::size_t(k)], b = kept[std::size_t(k + 1 < m ? k + 1 : 0)];
     for (int i = a + 1 < n ? a + 1 : 0; i != b; i = i + 1 < n ? i + 1 : 0) {
-      error = std::max(error, DistanceToSegment(ring[std::size_t(i)], ring[std::size_t(a)],
-                                                ring[std::size_t(b)]));
+      error = std::max(error, SquaredDistanceToSegment(ring[std::size_t(i)], ring[std::size_t(a)],
+                                                       ring[std::size_t(b)]));
     }
   }
-  return error;
+  return std::sqrt(error);
 }
 
 }  // namespace freespace

@@ -12,12 +12,16 @@
 
 namespace freespace {
 
-double DistanceToSegment(const Vec2& p, const Vec2& a, const Vec2& b) {
+double SquaredDistanceToSegment(const Vec2& p, const Vec2& a, const Vec2& b) {
   const Vec2 ab = b - a;
   const double len2 = ab.squaredNorm();
-  if (len2 == 0.0) return (p - a).norm();
+  if (len2 == 0.0) return (p - a).squaredNorm();
   const double t = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
-  return (p - (a + t * ab)).norm();
+  return (p - (a + t * ab)).squaredNorm();
+}
+
+double DistanceToSegment(const Vec2& p, const Vec2& a, const Vec2& b) {
+  return std::sqrt(SquaredDistanceToSegment(p, a, b));
 }
 
 bool PointInPolygon(const std::vector<Vec2>& polygon, const Vec2& p) {

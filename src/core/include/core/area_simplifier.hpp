@@ -44,6 +44,7 @@ class AreaSimplifier {
   std::vector<int> prev_, next_;
   MinTree tree_;                   // the costs of the vertices not dropped
   std::vector<char> dropped_;      // per vertex: dropped
+  std::vector<char> at_centre_;    // per vertex: at the centre (never dropped)
   std::vector<double> cost_;       // per vertex: its drop's cost
   std::vector<double> deviation_;  // per kept vertex: the bound for the edge that starts at it
 };

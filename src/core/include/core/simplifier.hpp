@@ -63,7 +63,8 @@ class PolygonSimplifier {
 // Even-odd point-in-polygon test; a point on the boundary may count either way.
 bool PointInPolygon(const std::vector<Vec2>& polygon, const Vec2& p);
 
-// Distance from p to the segment [a, b].
+// Distance from p to the segment [a, b], and its square (the distance is its square root).
 double DistanceToSegment(const Vec2& p, const Vec2& a, const Vec2& b);
+double SquaredDistanceToSegment(const Vec2& p, const Vec2& a, const Vec2& b);
 
 }  // namespace freespace
