@@ -12,8 +12,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <cmath>
-#include <utility>
 
 #include "host/host_backend.hpp"
 
@@ -25,53 +23,6 @@ namespace {
 std::uint64_t PaddedBits64(const std::uint64_t* pad, int start) {
   const int w = (start >> 6) + 1, offset = start & 63;  // start >> 6 floors negative starts too
   return (pad[w] >> offset) | ((pad[w + 1] << (63 - offset)) << 1);
-}
-
-// A bound on the columns of row `row` whose cells' lines of sight from `views` can pass
-// InMarginConeOfAny() toward offset (dx, dy): [*lo, *hi], at least the columns that pass, found
-// in floating point and widened by a cell (the exact test still decides each cell). False when
-// no column can pass.
-bool ConeColumns(const KernelParams& p, const MarginViews& views, int row, int dx, int dy, int* lo,
-                 int* hi) {
-  *lo = 0;
-  *hi = p.width - 1;
-  if (p.margin_all || p.cone_cos < 0) return true;  // a cone past a right angle: every column
-  const double e1x = double(dx) * p.cone_cos - double(dy) * p.cone_sin;
-  const double e1y = double(dx) * p.cone_sin + double(dy) * p.cone_cos;
-  const double e2x = double(dx) * p.cone_cos + double(dy) * p.cone_sin;
-  const double e2y = -double(dx) * p.cone_sin + double(dy) * p.cone_cos;
-  double low = p.width, high = -1.0;  // the hull of the views' intervals
-  for (int i = 0; i < views.count; ++i) {
-    const double vy = double(row) * kFixedOne + kFixedHalf - views.y[i];
-    // vx = kFixedOne c + kFixedHalf - x, and both a vx + b >= 0: after e2, before e1.
-    double c_lo = -1.0, c_hi = p.width;
-    bool empty = false;
-    for (const auto& [a, b] : {std::pair{-e2y, e2x * vy}, std::pair{e1y, -e1x * vy}}) {
-      if (a == 0.0) {
-        empty = empty || b < 0.0;
-        continue;
-      }
-      const double c = (-b / a - kFixedHalf + views.x[i]) / kFixedOne;
-      if (a > 0.0)
-        c_lo = std::max(c_lo, c);
-      else
-        c_hi = std::min(c_hi, c);
-    }
-    if (empty || c_lo > c_hi + 2.0) continue;
-    low = std::min(low, c_lo);
-    high = std::max(high, c_hi);
-  }
-  if (low > high + 2.0) return false;
-  *lo = std::max(0, int(std::floor(low)) - 1);
-  *hi = std::min(p.width - 1, int(std::ceil(high)) + 1);
-  return *lo <= *hi;
-}
-
-// Bits lo .. hi of word w (all 64 when the word lies inside).
-std::uint64_t RangeBits(int w, int lo, int hi) {
-  const int first = std::max(lo - w * 64, 0), last = std::min(hi - w * 64, 63);
-  if (first > last) return 0;
-  return (~std::uint64_t{0} << first) & (~std::uint64_t{0} >> (63 - last));
 }
 
 }  // namespace
@@ -136,12 +87,12 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
         if (rr < 0 || rr >= height) continue;
         for (int w = 0; w < nw; ++w) near[w] = sources(rr, w);
         for (int dx = -k; dx <= k; ++dx) {
-          int lo, hi;
-          if ((dx == 0 && dy == 0) || !ConeColumns(params_, views, r, dx, dy, &lo, &hi)) continue;
-          for (int w = lo >> 6; w <= hi >> 6; ++w) {
+          if (dx == 0 && dy == 0) continue;
+          // Few cells border a source: each is tested for the cone as it is, where bounding
+          // the cone's columns first, per row and offset, cost more than the tests it saved.
+          for (int w = 0; w < nw; ++w) {
             if ((out[w] & any[w]) == 0) continue;
-            std::uint64_t candidates =
-                out[w] & ~kill[w] & PaddedBits64(near_pad, w * 64 + dx) & RangeBits(w, lo, hi);
+            std::uint64_t candidates = out[w] & ~kill[w] & PaddedBits64(near_pad, w * 64 + dx);
             while (candidates != 0) {
               const int bit = __builtin_ctzll(candidates);
               candidates &= candidates - 1;
