@@ -230,23 +230,6 @@ InsidePolygonBuilder::NearSide InsidePolygonBuilder::Near(const Vec2& sensor, co
   return near;
 }
 
-void InsidePolygonBuilder::Compact() {
-  // Rays that end on one cell edge line (or on one border side) end on a straight line, in
-  // order along it: the vertices between the first and the last of such a run change nothing.
-  // Pulled vertices left their line. Rays blocked at once end at the sensor: one is enough.
-  const auto inner = [](const Vec2& a, const Vec2& p, const Vec2& b) {
-    return (a.x() == p.x() && p.x() == b.x()) || (a.y() == p.y() && p.y() == b.y());
-  };
-  const std::size_t m = ring_.size();
-  std::size_t count = 0;
-  for (std::size_t k = 0; k < m; ++k) {
-    const Vec2& previous = count > 0 ? ring_[count - 1] : ring_[m - 1];
-    if (inner(previous, ring_[k], ring_[k + 1 < m ? k + 1 : 0])) continue;
-    ring_[count++] = ring_[k];
-  }
-  ring_.resize(count);
-}
-
 bool InsidePolygonBuilder::Distinct(std::vector<Vec2>* polygon) {
   std::vector<Vec2>& p = *polygon;
   std::size_t n = 0;
@@ -333,26 +316,57 @@ void InsidePolygonBuilder::BetweenRays(const MaskView& mask, const Vec2& sensor,
   }
 }
 
+// Rays that end on one cell edge line (or on one border side) end on a straight line, in order
+// along it: the vertices between the first and the last of such a run change nothing. Pulled
+// vertices left their line. Rays blocked at once end at the sensor: one is enough. So a vertex
+// is dropped when it lies on a row or column line with the last one kept and the next one.
+void InsidePolygonBuilder::RingCompactor::Offer(const Vec2& next) {
+  if (started_) {
+    const Vec2& before = ring_->empty() ? last_ : ring_->back();
+    if (!Inner(before, pending_, next)) ring_->push_back(pending_);
+  } else {
+    first_ = next;
+    started_ = true;
+  }
+  pending_ = next;
+}
+
+void InsidePolygonBuilder::RingCompactor::Close() {
+  if (!started_) return;
+  const Vec2& before = ring_->empty() ? last_ : ring_->back();
+  if (!Inner(before, pending_, ring_->empty() ? first_ : ring_->front()))
+    ring_->push_back(pending_);
+}
+
 void InsidePolygonBuilder::AssembleRing(const Vec2& sensor) {
   const int m = int(end_.size());
   ring_.clear();
+  if (m == 0) return;
+  // Each triangle keeps its own pull: the ring comes in to ray k's end at the scale the
+  // triangle before it allows and leaves from the scale the one after it allows, running along
+  // the ray between the two (clear up to its end). A shadow's side is such a step. The last
+  // ray's last vertex, worked out first, is the neighbour before the first ray's first.
+  const auto last_of = [&](int k) -> Vec2 {
+    if (corner_[std::size_t(k)] == 1) return corner_at_[std::size_t(k)];
+    if (corner_[std::size_t(k)] == 2)
+      return sensor + split_out_at_[std::size_t(k)] * (corner_at_[std::size_t(k)] - sensor);
+    return sensor + need_a_[std::size_t(k)] * (end_[std::size_t(k)] - sensor);
+  };
+  RingCompactor ring(&ring_, last_of(m - 1));
   for (int k = 0; k < m; ++k) {
-    // Each triangle keeps its own pull: the ring comes in to ray k's end at the scale the
-    // triangle before it allows and leaves from the scale the one after it allows, running
-    // along the ray between the two (clear up to its end). A shadow's side is such a step.
     const Vec2 d = end_[std::size_t(k)] - sensor;
     const double in = need_b_[std::size_t(k > 0 ? k - 1 : m - 1)], out = need_a_[std::size_t(k)];
-    ring_.push_back(sensor + in * d);
-    if (out != in) ring_.push_back(sensor + out * d);
-    if (corner_[std::size_t(k)] == 1) ring_.push_back(corner_at_[std::size_t(k)]);
+    ring.Offer(sensor + in * d);
+    if (out != in) ring.Offer(sensor + out * d);
+    if (corner_[std::size_t(k)] == 1) ring.Offer(corner_at_[std::size_t(k)]);
     if (corner_[std::size_t(k)] == 2) {  // round a blocked cell's corner, pulled on each side
       const Vec2 c = corner_at_[std::size_t(k)] - sensor;
       const double c_in = split_in_at_[std::size_t(k)], c_out = split_out_at_[std::size_t(k)];
-      ring_.push_back(sensor + c_in * c);
-      if (c_out != c_in) ring_.push_back(sensor + c_out * c);
+      ring.Offer(sensor + c_in * c);
+      if (c_out != c_in) ring.Offer(sensor + c_out * c);
     }
   }
-  Compact();
+  ring.Close();
 }
 
 bool InsidePolygonBuilder::Build(const MaskView& mask, const SensorCell& s,

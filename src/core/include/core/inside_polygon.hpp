@@ -98,10 +98,25 @@ class InsidePolygonBuilder {
   // Between ray k and the next: a corner to go round, or how far to pull their ends. Writes only
   // pair k's entries: pairs may be worked in parallel.
   void BetweenRays(const MaskView& mask, const Vec2& sensor, int k);
-  // The ring from the ends, pulled, with the corners between them; compacted.
+  // The ring from the ends, pulled, with the corners between them; compacted as it comes.
   void AssembleRing(const Vec2& sensor);
-  // Drops the ring vertices that lie on a straight run between their neighbours.
-  void Compact();
+  // Keeps the ring's vertices as they come but those on a straight run along a row or a column
+  // line between the last one kept and the next (the ring closed: the first vertex's neighbour
+  // before it is `last`, the last vertex that will come).
+  class RingCompactor {
+   public:
+    RingCompactor(std::vector<Vec2>* ring, const Vec2& last) : ring_(ring), last_(last) {}
+    void Offer(const Vec2& next);
+    void Close();  // decides the last vertex, whose neighbour after it is the first one kept
+
+   private:
+    static bool Inner(const Vec2& a, const Vec2& p, const Vec2& b) {
+      return (a.x() == p.x() && p.x() == b.x()) || (a.y() == p.y() && p.y() == b.y());
+    }
+    std::vector<Vec2>* ring_;
+    Vec2 last_, first_ = Vec2::Zero(), pending_ = Vec2::Zero();
+    bool started_ = false;
+  };
   // Drops repeated vertices; false when fewer than three distinct ones remain.
   static bool Distinct(std::vector<Vec2>* polygon);
 
