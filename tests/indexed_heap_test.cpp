@@ -1,5 +1,5 @@
-// The indexed heap both simplifiers keep their candidates in, against a plain search for the
-// least key over random pushes, key changes and removals.
+// The indexed heap the paper polygon's simplifier keeps its segments in, against a plain
+// search for the least key over random pushes, key changes and removals.
 #include "core/indexed_heap.hpp"
 
 #include <gtest/gtest.h>

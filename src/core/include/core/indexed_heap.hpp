@@ -1,8 +1,8 @@
 // A binary heap of small integer ids that knows where each id sits, so that an id whose key
 // changed moves in place and one can be taken out from anywhere. The keys stay with the caller:
 // every call that moves ids takes `before(a, b)`, true when id a belongs above id b (a strict
-// order). Both simplifiers of the polygon keep their candidates in one (core/simplifier.hpp,
-// core/area_simplifier.hpp).
+// order). The paper polygon's simplifier keeps its segments in one (core/simplifier.hpp); the
+// least-area one keeps its costs in a tournament tree (core/min_tree.hpp).
 #pragma once
 
 #include <cstddef>
