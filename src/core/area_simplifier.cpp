@@ -35,14 +35,15 @@ AreaSimplifier::AreaSimplifier(int max_vertices, double epsilon, double inward_w
       deviation_(std::size_t(capacity)) {}
 
 double AreaSimplifier::Cost(const std::vector<Vec2>& ring, const Vec2& centre, int v) const {
-  const Vec2& u = ring[std::size_t(prev_[std::size_t(v)])];
-  const Vec2& w = ring[std::size_t(next_[std::size_t(v)])];
+  const std::size_t before = std::size_t(prev_[std::size_t(v)]);
+  const std::size_t after = std::size_t(next_[std::size_t(v)]);
+  const Vec2& u = ring[before];
+  const Vec2& w = ring[after];
   const Vec2& p = ring[std::size_t(v)];
   // A vertex at the centre stays; the new edge u -> w must pass the centre on its left, or end
   // at it.
   if (at_centre_[std::size_t(v)]) return kNever;
-  if (!at_centre_[std::size_t(prev_[std::size_t(v)])] &&
-      !at_centre_[std::size_t(next_[std::size_t(v)])] && Cross(w - u, centre - u) <= kAreaTolerance)
+  if (!at_centre_[before] && !at_centre_[after] && Cross(w - u, centre - u) <= kAreaTolerance)
     return kNever;
   const double twice = Cross(w - u, p - u);
   return Weight(twice) * 0.5 * std::abs(twice);
