@@ -45,14 +45,12 @@ BackendConfig BenchBackend(std::int64_t arg) {
   return config;
 }
 
-namespace {
 double Median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   const std::size_t mid = v.size() / 2;
   std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(mid), v.end());
   return v[mid];
 }
-}  // namespace
 
 void PairedTimes::Publish(benchmark::State& state, const char* a, const char* b,
                           const char* ratio) const {

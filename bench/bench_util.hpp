@@ -34,6 +34,9 @@ using test::StageInput;
 // FREESPACE_OPENCL_PLATFORM / FREESPACE_OPENCL_DEVICE replace these filters, as in the engine.
 BackendConfig BenchBackend(std::int64_t arg);
 
+// The median of `v` (0 when empty).
+double Median(std::vector<double> v);
+
 // Per-iteration times of two setups timed in turn within one benchmark loop (BM_*Pair): the
 // machine's speed, which on a shared VM moves by up to 50 % within minutes, then weighs on both
 // alike. Publish() sets the counters `<a>` and `<b>` (medians, us) and `ratio` (b / a).

@@ -5,8 +5,10 @@
 // stage's own (Result::times, UseManualTime): BM_DrivePolygon times the polygon stage alone (the
 // host's work after the border rays), BM_DrivePipeline the whole Estimator::Process(); counters:
 // the mean mask (stage 3b) and border-ray (stage 4) times. BM_DrivePair times both setups in
-// turn in one loop, for their ratios.
+// turn in one loop, for their ratios; BM_DriveLayers the road setup with and without each of its
+// layers, for what each costs.
 #include <map>
+#include <memory>
 
 #include "bench_util.hpp"
 #include "sim/simulator.hpp"
@@ -112,6 +114,66 @@ void BM_DrivePair(benchmark::State& state) {
   polygon.Publish(state, "polygon_paper", "polygon_inside", "polygon_ratio");
 }
 
+// The road setup less one of its layers (not in the paper): 0 the mover layer, 1 the face
+// layer, 2 the margin; 3 less all three.
+Config WithoutLayer(Config config, int layer) {
+  if (layer == 0 || layer == 3) config.polygon.mover_memory_s = 0.0;
+  if (layer == 1 || layer == 3) config.polygon.face_tolerance_m = 0.0;
+  if (layer == 2 || layer == 3) config.polygon.margin_cells = 0;
+  return config;
+}
+
+// What each layer of the road setup costs: the paper setup, the road setup and the road setup
+// less each layer and less all three (WithoutLayer()), on the same scans in turn, one scan each
+// an iteration (args: scenario, map side). Counters: the pipeline medians (us) `paper`, `road`,
+// `no_movers`, `no_faces`, `no_margin` and `no_layers`; `ratio` (road / paper); what each layer
+// adds to the road setup's median, `movers`, `faces` and `margin`; and what the conservative
+// polygon without them adds to the paper setup's, `polygon`.
+void BM_DriveLayers(benchmark::State& state) {
+  SensorConfig sensor;
+  const std::vector<Scan>& scans = DriveScans(int(state.range(0)), &sensor);
+  const int cells = int(state.range(1));
+  const Config road = DriveConfig(false, sensor, cells);
+  std::vector<std::unique_ptr<Estimator>> setups;
+  setups.push_back(std::make_unique<Estimator>(DriveConfig(true, sensor, cells)));
+  setups.push_back(std::make_unique<Estimator>(road));
+  for (int layer = 0; layer < 4; ++layer)
+    setups.push_back(std::make_unique<Estimator>(WithoutLayer(road, layer)));
+  state.SetLabel(std::string(kScenarios[state.range(0)]) + " " + std::to_string(cells) + "x" +
+                 std::to_string(cells));
+  std::vector<std::vector<double>> times(setups.size());
+  std::size_t next = 0;
+  for (auto _ : state) {
+    if (next % scans.size() == 0) {
+      for (const auto& e : setups) {
+        e->Reset();
+        for (int i = 0; i < kWarmUp; ++i) e->Process(scans[std::size_t(i)]);
+      }
+      next = kWarmUp;
+    }
+    const Scan& scan = scans[next++ % scans.size()];
+    double total = 0.0;
+    for (std::size_t k = 0; k < setups.size(); ++k) {
+      const Result& r = setups[k]->Process(scan);
+      benchmark::DoNotOptimize(r.polygon.data());
+      times[k].push_back(r.times.total_us);
+      total += r.times.total_us;
+    }
+    state.SetIterationTime(total * 1e-6);
+  }
+  const char* names[] = {"paper", "road", "no_movers", "no_faces", "no_margin", "no_layers"};
+  const char* layers[] = {"movers", "faces", "margin"};
+  std::vector<double> median(setups.size());
+  for (std::size_t k = 0; k < setups.size(); ++k) {
+    median[k] = Median(times[k]);
+    state.counters[names[k]] = median[k];
+  }
+  state.counters["ratio"] = median[0] > 0 ? median[1] / median[0] : 0.0;
+  for (int layer = 0; layer < 3; ++layer)
+    state.counters[layers[layer]] = median[1] - median[2 + layer];
+  state.counters["polygon"] = median[5] - median[0];
+}
+
 void Drives(benchmark::internal::Benchmark* b) {
   for (const int cells : {300, 1500}) {
     for (const int scenario : {0, 1, 2}) {
@@ -125,6 +187,11 @@ BENCHMARK(BM_DrivePolygon)->Apply(Drives);
 BENCHMARK(BM_DrivePipeline)->Apply(Drives);
 BENCHMARK(BM_DrivePair)
     ->ArgsProduct({{0, 1, 2}, {300, 1500}})
+    ->ArgNames({"scenario", "cells"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_DriveLayers)
+    ->ArgsProduct({{0, 1, 2}, {300}})
     ->ArgNames({"scenario", "cells"})
     ->UseManualTime()
     ->Unit(benchmark::kMicrosecond);
