@@ -37,6 +37,12 @@ const std::vector<Scan>& DriveScans(int scenario, SensorConfig* sensor) {
   return drive.first;
 }
 
+// `estimator` from a fresh map through the drive's first kWarmUp scans (untimed).
+void WarmUp(Estimator* estimator, const std::vector<Scan>& scans) {
+  estimator->Reset();
+  for (int i = 0; i < kWarmUp; ++i) estimator->Process(scans[std::size_t(i)]);
+}
+
 // The road setup (configs/scala.yaml) or, with `paper`, its paper-shape polygon without margin,
 // face or mover layer, for `sensor` on a map of `cells` x `cells`.
 Config DriveConfig(bool paper, const SensorConfig& sensor, int cells) {
@@ -64,8 +70,8 @@ void RunDrive(benchmark::State& state, bool polygon_only) {
   double mask = 0.0, insight = 0.0;
   for (auto _ : state) {
     if (next % scans.size() == 0) {
-      estimator.Reset();
-      for (next = 0; next < kWarmUp; ++next) estimator.Process(scans[next]);
+      WarmUp(&estimator, scans);
+      next = kWarmUp;
     }
     const Result& r = estimator.Process(scans[next++ % scans.size()]);
     benchmark::DoNotOptimize(r.polygon.data());
@@ -95,10 +101,7 @@ void BM_DrivePair(benchmark::State& state) {
   PairedTimes pipeline, polygon;
   for (auto _ : state) {
     if (next % scans.size() == 0) {
-      for (Estimator* e : estimators) {
-        e->Reset();
-        for (int i = 0; i < kWarmUp; ++i) e->Process(scans[std::size_t(i)]);
-      }
+      for (Estimator* e : estimators) WarmUp(e, scans);
       next = kWarmUp;
     }
     const Scan& scan = scans[next++ % scans.size()];
@@ -145,10 +148,7 @@ void BM_DriveLayers(benchmark::State& state) {
   std::size_t next = 0;
   for (auto _ : state) {
     if (next % scans.size() == 0) {
-      for (const auto& e : setups) {
-        e->Reset();
-        for (int i = 0; i < kWarmUp; ++i) e->Process(scans[std::size_t(i)]);
-      }
+      for (const auto& e : setups) WarmUp(e.get(), scans);
       next = kWarmUp;
     }
     const Scan& scan = scans[next++ % scans.size()];
