@@ -18,11 +18,11 @@
 namespace freespace {
 namespace {
 
-// Bits start .. start + 63 of a bitset row kept from pad[1] on, with a word of zeros on either
-// side: 0 outside the row (start from -64 to the row's last bit).
-std::uint64_t PaddedBits64(const std::uint64_t* pad, int start) {
-  const int w = (start >> 6) + 1, offset = start & 63;  // start >> 6 floors negative starts too
-  return (pad[w] >> offset) | ((pad[w + 1] << (63 - offset)) << 1);
+// Bits w * 64 + d .. w * 64 + d + 63 of a bitset row kept from pad[1] on, with a word of zeros
+// on either side, for an offset -64 <= d <= 64 given as word = (d >> 6) + 1 and shift = d & 63:
+// 0 outside the row.
+std::uint64_t OffsetBits(const std::uint64_t* pad, int w, int word, int shift) {
+  return (pad[w + word] >> shift) | ((pad[w + word + 1] << (63 - shift)) << 1);
 }
 
 }  // namespace
@@ -35,12 +35,19 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
   const RowSpan write = span.Hull(mask_rows_);
   const LogOdds* map = map_.data();
   const std::uint64_t valid_last = (width % 64) ? (~0ull >> (64 - width % 64)) : ~0ull;
-  // The margin's sources of row rr: outside the rows Classify() kept, every cell is unknown.
-  const auto sources = [&](int rr, int w) -> std::uint64_t {
-    const std::size_t i = std::size_t(rr) * nw + w;
-    if (rr < bits_rows_.begin || rr >= bits_rows_.end)
-      return (w + 1 == nw ? valid_last : ~0ull) & ~face_seen_[i];
-    return (bits_unconfirmed_[i] | echo_[i]) & ~face_seen_[i];
+  // The margin's sources of row rr, into src (nw words): outside the rows Classify() kept, every
+  // cell is unknown.
+  const auto sources = [&](int rr, std::uint64_t* src) {
+    const std::size_t at = std::size_t(rr) * nw;
+    const std::uint64_t* seen = face_seen_.data() + at;
+    if (rr < bits_rows_.begin || rr >= bits_rows_.end) {
+      for (int w = 0; w < nw; ++w) src[w] = ~seen[w];
+      src[nw - 1] &= valid_last;
+      return;
+    }
+    const std::uint64_t* unconfirmed = bits_unconfirmed_.data() + at;
+    const std::uint64_t* echo = echo_.data() + at;
+    for (int w = 0; w < nw; ++w) src[w] = (unconfirmed[w] | echo[w]) & ~seen[w];
   };
   auto mask_row = [&](int r) {
     std::uint64_t* out = mask_.data() + std::size_t(r) * nw;
@@ -60,39 +67,29 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
       }
     }
     if (k > 0) {
-      // Room for the widest map; only the row's nw words are used, so only they are cleared.
-      // near and column from word 1 on, a word of zeros on either side (PaddedBits64).
-      std::uint64_t kill[128], near_pad[130], column_pad[130], any[128];
+      // Room for the widest map; only the row's nw words are used. near from word 1 on, a word
+      // of zeros on either side (OffsetBits). Each source row once, each offset's cells of it
+      // against the free cells not yet killed: few of them border a source, and each is tested
+      // for the cone as it is.
+      std::uint64_t kill[128], near_pad[130];
       std::uint64_t* near = near_pad + 1;
-      std::uint64_t* column = column_pad + 1;
-      std::fill_n(kill, nw, std::uint64_t{0});
-      std::fill_n(column_pad, nw + 2, std::uint64_t{0});
-      std::fill_n(any, nw, std::uint64_t{0});
-      near_pad[0] = near_pad[nw + 1] = 0;
-      // The cells with a source within k at all, so that the words without are skipped.
-      for (int dy = -k; dy <= k; ++dy) {
-        const int rr = r + dy;
-        if (rr < 0 || rr >= height) continue;
-        for (int w = 0; w < nw; ++w) {
-          column[w] |= sources(rr, w);
-        }
-      }
-      bool none = true;
+      std::uint64_t free_any = 0;
       for (int w = 0; w < nw; ++w) {
-        for (int dx = -k; dx <= k; ++dx) any[w] |= PaddedBits64(column_pad, w * 64 + dx);
-        none = none && (out[w] & any[w]) == 0;
+        kill[w] = 0;
+        free_any |= out[w];
       }
-      for (int dy = -k; dy <= k && !none; ++dy) {
+      near_pad[0] = near_pad[nw + 1] = 0;
+      for (int dy = -k; dy <= k && free_any != 0; ++dy) {
         const int rr = r + dy;
         if (rr < 0 || rr >= height) continue;
-        for (int w = 0; w < nw; ++w) near[w] = sources(rr, w);
+        sources(rr, near);
         for (int dx = -k; dx <= k; ++dx) {
           if (dx == 0 && dy == 0) continue;
-          // Few cells border a source: each is tested for the cone as it is, where bounding
-          // the cone's columns first, per row and offset, cost more than the tests it saved.
+          const int shift = dx & 63, word = (dx >> 6) + 1;  // dx >> 6 floors negative dx too
           for (int w = 0; w < nw; ++w) {
-            if ((out[w] & any[w]) == 0) continue;
-            std::uint64_t candidates = out[w] & ~kill[w] & PaddedBits64(near_pad, w * 64 + dx);
+            std::uint64_t candidates = out[w] & ~kill[w];
+            if (candidates == 0) continue;
+            candidates &= OffsetBits(near_pad, w, word, shift);
             while (candidates != 0) {
               const int bit = __builtin_ctzll(candidates);
               candidates &= candidates - 1;
