@@ -20,59 +20,38 @@ constexpr double kAreaTolerance = 1e-9;
 // strip holds less than 1e-6 cells^2 of any triangle in a map of 8192 x 8192 cells.
 constexpr double kEdgeTolerance = 1e-14;
 
-// A convex polygon in (alpha, beta) coordinates, at most 8 vertices (a square cut by three
-// half-planes).
-struct Clip {
-  double v[8][2];
-  int n = 0;
-  // Keeps the part where c0 + c1 * alpha + c2 * beta >= 0 (Sutherland-Hodgman).
-  void Cut(double c0, double c1, double c2) {
-    double f[8];
-    bool all_in = true, all_out = true;
-    for (int i = 0; i < n; ++i) {
-      f[i] = c0 + c1 * v[i][0] + c2 * v[i][1];
-      all_in = all_in && f[i] >= 0;
-      all_out = all_out && f[i] < 0;
+// The part of the convex polygon with vertices (a[i], b[i]), i < n, where f >= 0 (f affine,
+// f[i] its value at vertex i), into (oa, ob), at most n + 1 vertices (Sutherland-Hodgman);
+// returns how many.
+inline int CutBy(const double* f, const double* a, const double* b, int n, double* oa, double* ob) {
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const int j = i + 1 < n ? i + 1 : 0;
+    const double fp = f[i], fq = f[j];
+    if (fp >= 0) {
+      oa[m] = a[i];
+      ob[m] = b[i];
+      ++m;
     }
-    if (all_in) return;
-    if (all_out) {
-      n = 0;
-      return;
-    }
-    double out[8][2];
-    int m = 0;
-    for (int i = 0; i < n; ++i) {
-      const int j = i + 1 < n ? i + 1 : 0;
-      const double* p = v[i];
-      const double* q = v[j];
-      const double fp = f[i], fq = f[j];
-      if (fp >= 0) {
-        out[m][0] = p[0];
-        out[m][1] = p[1];
-        ++m;
-      }
-      if ((fp >= 0) != (fq >= 0)) {
-        const double f = fp / (fp - fq);
-        out[m][0] = p[0] + f * (q[0] - p[0]);
-        out[m][1] = p[1] + f * (q[1] - p[1]);
-        ++m;
-      }
-    }
-    n = m;
-    for (int i = 0; i < n; ++i) {
-      v[i][0] = out[i][0];
-      v[i][1] = out[i][1];
+    if ((fp >= 0) != (fq >= 0)) {
+      const double t = fp / (fp - fq);
+      oa[m] = a[i] + t * (a[j] - a[i]);
+      ob[m] = b[i] + t * (b[j] - b[i]);
+      ++m;
     }
   }
-  double Area() const {
-    double a = 0.0;
-    for (int i = 0; i < n; ++i) {
-      const int j = i + 1 < n ? i + 1 : 0;
-      a += v[i][0] * v[j][1] - v[i][1] * v[j][0];
-    }
-    return 0.5 * std::abs(a);
+  return m;
+}
+
+// The area of the polygon (a[i], b[i]), i < n.
+inline double Area(const double* a, const double* b, int n) {
+  double s = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const int j = i + 1 < n ? i + 1 : 0;
+    s += a[i] * b[j] - b[i] * a[j];
   }
-};
+  return 0.5 * std::abs(s);
+}
 
 }  // namespace fan
 
@@ -107,29 +86,33 @@ struct FanPull {
     if (before_a || beyond_b) return false;
     // The corners in (alpha, beta), divided by det: a corner on a ray's end (a ray that
     // ended at a cell corner) gets exactly alpha = 1 or beta = 1.
-    fan::Clip cell;
+    double al[8], be[8];  // room for the square cut by three half-planes
     double least = INFINITY;
     for (int k = 0; k < 4; ++k) {
-      double* ab = cell.v[cell.n++];
-      ab[0] = (wx[k] * v.y() - wy[k] * v.x()) / det;
-      ab[1] = (u.x() * wy[k] - u.y() * wx[k]) / det;
-      least = std::min(least, ab[0] + ab[1]);
+      al[k] = (wx[k] * v.y() - wy[k] * v.x()) / det;
+      be[k] = (u.x() * wy[k] - u.y() * wx[k]) / det;
+      least = std::min(least, al[k] + be[k]);
     }
     if (least >= 1.0 - fan::kEdgeTolerance) return false;
-    cell.Cut(0, 1, 0);  // alpha >= 0
-    cell.Cut(0, 0, 1);  // beta >= 0
+    double ta[8], tb[8], f[8];
+    for (int k = 0; k < 4; ++k) f[k] = al[k];
+    int n = fan::CutBy(f, al, be, 4, ta, tb);  // alpha >= 0
+    for (int k = 0; k < n; ++k) f[k] = tb[k];
+    n = fan::CutBy(f, ta, tb, n, al, be);  // beta >= 0
     // The overlap's area in cells^2 is det times its area in (alpha, beta).
-    if (cell.n < 3 || cell.Area() * det <= fan::kAreaTolerance) return false;
-    for (int i = 0; i < cell.n; ++i) both = std::min(both, cell.v[i][0] + cell.v[i][1]);
-    fan::Clip near_a = cell;  // alpha <= 1: beta / (1 - alpha) is constant along edges ending at
-    near_a.Cut(1, -1, 0);     // alpha = 1, so the least lies at a vertex with alpha < 1
-    for (int i = 0; i < near_a.n; ++i) {
-      if (near_a.v[i][0] < 1.0) only_b = std::min(only_b, near_a.v[i][1] / (1.0 - near_a.v[i][0]));
+    if (n < 3 || fan::Area(al, be, n) * det <= fan::kAreaTolerance) return false;
+    for (int i = 0; i < n; ++i) both = std::min(both, al[i] + be[i]);
+    // alpha <= 1: beta / (1 - alpha) is constant along edges ending at alpha = 1, so the least
+    // lies at a vertex with alpha < 1. Likewise beta <= 1 for only_a.
+    for (int k = 0; k < n; ++k) f[k] = 1.0 - al[k];
+    int m = fan::CutBy(f, al, be, n, ta, tb);
+    for (int i = 0; i < m; ++i) {
+      if (ta[i] < 1.0) only_b = std::min(only_b, tb[i] / (1.0 - ta[i]));
     }
-    fan::Clip near_b = cell;
-    near_b.Cut(1, 0, -1);
-    for (int i = 0; i < near_b.n; ++i) {
-      if (near_b.v[i][1] < 1.0) only_a = std::min(only_a, near_b.v[i][0] / (1.0 - near_b.v[i][1]));
+    for (int k = 0; k < n; ++k) f[k] = 1.0 - be[k];
+    m = fan::CutBy(f, al, be, n, ta, tb);
+    for (int i = 0; i < m; ++i) {
+      if (tb[i] < 1.0) only_a = std::min(only_a, ta[i] / (1.0 - tb[i]));
     }
     return true;
   }
