@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "host/host_backend.hpp"
 
@@ -25,7 +26,54 @@ std::uint64_t OffsetBits(const std::uint64_t* pad, int w, int word, int shift) {
   return (pad[w + word] >> shift) | ((pad[w + word + 1] << (63 - shift)) << 1);
 }
 
+// Bits lo .. hi of word w (all 64 where the word lies inside).
+std::uint64_t RangeBits(int w, int lo, int hi) {
+  const int first = std::max(lo - w * 64, 0), last = std::min(hi - w * 64, 63);
+  if (first > last) return 0;
+  return (~std::uint64_t{0} << first) & (~std::uint64_t{0} >> (63 - last));
+}
+
 }  // namespace
+
+MarginCone MarginCone::Of(const KernelParams& p, int dx, int dy) {
+  MarginCone cone;
+  cone.all = p.margin_all || p.cone_cos < 0;  // past a right angle: no interval of columns
+  // InMarginCone()'s two half-planes, a v.x + b v.y >= 0 for the line of sight v.
+  const double c = p.cone_cos, s = p.cone_sin;
+  const double e1x = dx * c - dy * s, e1y = dx * s + dy * c;
+  const double e2x = dx * c + dy * s, e2y = -dx * s + dy * c;
+  const double a[2] = {-e2y, e1y}, b[2] = {e2x, -e1x};
+  for (int i = 0; i < 2; ++i) {
+    cone.side[i] = a[i] > 0 ? 1 : (a[i] < 0 ? -1 : 0);
+    cone.ratio[i] = a[i] != 0 ? -b[i] / a[i] : 0.0;
+  }
+  return cone;
+}
+
+bool MarginCone::Columns(const MarginViews& views, int row, int width, int* lo, int* hi) const {
+  *lo = 0;
+  *hi = width - 1;
+  if (all) return true;
+  double low = width, high = -1.0;  // the hull of the views' ranges
+  for (int v = 0; v < views.count; ++v) {
+    const double sx = double(views.x[v]) / kFixedOne, sy = double(views.y[v]) / kFixedOne;
+    const double vy = row + 0.5 - sy;
+    double c_lo = 0.0, c_hi = width - 1.0;
+    for (int i = 0; i < 2; ++i) {
+      // The column whose centre lies on the half-plane's edge, give or take a rounding.
+      const double edge = ratio[i] * vy + sx - 0.5;
+      if (side[i] > 0) c_lo = std::max(c_lo, edge - 1.0);
+      if (side[i] < 0) c_hi = std::min(c_hi, edge + 1.0);
+    }
+    if (c_lo > c_hi) continue;
+    low = std::min(low, c_lo);
+    high = std::max(high, c_hi);
+  }
+  if (low > high) return false;
+  *lo = int(std::ceil(low));
+  *hi = int(std::floor(high));
+  return *lo <= *hi;
+}
 
 void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
   const int width = params_.width, height = params_.height, nw = words();
@@ -35,6 +83,10 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
   const RowSpan write = span.Hull(mask_rows_);
   const LogOdds* map = map_.data();
   const std::uint64_t valid_last = (width % 64) ? (~0ull >> (64 - width % 64)) : ~0ull;
+  margin_cones_.clear();
+  for (int dy = -k; dy <= k; ++dy) {
+    for (int dx = -k; dx <= k; ++dx) margin_cones_.push_back(MarginCone::Of(params_, dx, dy));
+  }
   // The margin's sources of row rr, into src (nw words): outside the rows Classify() kept, every
   // cell is unknown.
   const auto sources = [&](int rr, std::uint64_t* src) {
@@ -69,8 +121,8 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
     if (k > 0) {
       // Room for the widest map; only the row's nw words are used. near from word 1 on, a word
       // of zeros on either side (OffsetBits). Each source row once, each offset's cells of it
-      // against the free cells not yet killed: few of them border a source, and each is tested
-      // for the cone as it is.
+      // in the columns its cone can reach against the free cells not yet killed: few of them
+      // border a source, and each is tested for the cone as it is.
       std::uint64_t kill[128], near_pad[130];
       std::uint64_t* near = near_pad + 1;
       std::uint64_t free_any = 0;
@@ -84,10 +136,14 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
         if (rr < 0 || rr >= height) continue;
         sources(rr, near);
         for (int dx = -k; dx <= k; ++dx) {
-          if (dx == 0 && dy == 0) continue;
+          int lo, hi;
+          if ((dx == 0 && dy == 0) ||
+              !margin_cones_[std::size_t((dy + k) * (2 * k + 1) + dx + k)].Columns(views, r, width,
+                                                                                   &lo, &hi))
+            continue;
           const int shift = dx & 63, word = (dx >> 6) + 1;  // dx >> 6 floors negative dx too
-          for (int w = 0; w < nw; ++w) {
-            std::uint64_t candidates = out[w] & ~kill[w];
+          for (int w = lo >> 6; w <= hi >> 6; ++w) {
+            std::uint64_t candidates = out[w] & ~kill[w] & RangeBits(w, lo, hi);
             if (candidates == 0) continue;
             candidates &= OffsetBits(near_pad, w, word, shift);
             while (candidates != 0) {

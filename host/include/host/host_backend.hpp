@@ -22,6 +22,22 @@ namespace freespace {
 // The most distinct row half-widths the opening's element may have (radius 0 .. 127).
 inline constexpr int kMaxOpeningWidths = 128;
 
+// The margin's cone toward one offset (dx, dy) as bounds on the columns of a row (stage 3b,
+// host/mask.cpp): InMarginCone()'s two half-planes a v.x + b v.y >= 0 of the line of sight v
+// each bound v.x from one side, v.x >= ratio v.y where a > 0 (side 1), v.x <= ratio v.y where
+// a < 0 (side -1), by ratio = -b / a. A cone past a right angle, or all around, bounds nothing.
+struct MarginCone {
+  bool all = false;
+  int side[2] = {0, 0};
+  double ratio[2] = {0.0, 0.0};
+
+  static MarginCone Of(const KernelParams& p, int dx, int dy);
+  // Columns [lo, hi] of row `row` holding every cell whose line of sight from one of `views`
+  // passes the cone (found in floating point and widened by a column; the exact test
+  // InMarginConeOfAny() still decides each cell); false when there are none.
+  bool Columns(const MarginViews& views, int row, int width, int* lo, int* hi) const;
+};
+
 class HostBackend final : public Backend {
  public:
   // threads: 0 = all cores.
@@ -91,6 +107,7 @@ class HostBackend final : public Backend {
   std::vector<std::uint64_t> mask_;            // stage 3b output: the polygon mask, bitset rows
   RowSpan mask_rows_;                          // every row of mask_ with a set bit
   std::vector<std::uint64_t> mask_blocks_;     // its full 8 x 8 blocks (FullBlocks)
+  std::vector<MarginCone> margin_cones_;       // stage 3b: per offset within the margin
   std::vector<std::uint64_t> edge_seen_;       // stage 4: stop cells already in C_Edge (bitset)
   std::vector<std::int32_t> stop_;             // stage 4: stop cell per label
   std::vector<std::int32_t> delta_;  // conventional model: per-cell sum of one scan's rays
