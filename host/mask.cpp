@@ -33,6 +33,47 @@ std::uint64_t RangeBits(int w, int lo, int hi) {
   return (~std::uint64_t{0} << first) & (~std::uint64_t{0} >> (63 - last));
 }
 
+// The lines of sight of a row's cells from the margin's views: per view, v.y of the row's cells
+// and the view's x less half a cell, in cells.
+struct RowViews {
+  int count = 0;
+  double vy[kMaxSensors];
+  double x_less_half[kMaxSensors];
+
+  RowViews(const MarginViews& views, int row) : count(views.count) {
+    for (int v = 0; v < count; ++v) {
+      vy[v] = row + 0.5 - double(views.y[v]) / kFixedOne;
+      x_less_half[v] = double(views.x[v]) / kFixedOne - 0.5;
+    }
+  }
+};
+
+// Columns [lo, hi] of a row holding every cell whose line of sight from one of the row's views
+// passes `cone`, found in floating point and widened by a column (the exact test
+// InMarginConeOfAny() still decides each cell); false when there are none.
+bool ConeColumns(const MarginCone& cone, const RowViews& row, int width, int* lo, int* hi) {
+  *lo = 0;
+  *hi = width - 1;
+  if (cone.all) return true;
+  double low = width, high = -1.0;  // the hull of the views' ranges
+  for (int v = 0; v < row.count; ++v) {
+    double c_lo = 0.0, c_hi = width - 1.0;
+    for (int i = 0; i < 2; ++i) {
+      // The column whose centre lies on the half-plane's edge, give or take a rounding.
+      const double edge = cone.ratio[i] * row.vy[v] + row.x_less_half[v];
+      if (cone.side[i] > 0) c_lo = std::max(c_lo, edge - 1.0);
+      if (cone.side[i] < 0) c_hi = std::min(c_hi, edge + 1.0);
+    }
+    if (c_lo > c_hi) continue;
+    low = std::min(low, c_lo);
+    high = std::max(high, c_hi);
+  }
+  if (low > high) return false;
+  *lo = int(std::ceil(low));
+  *hi = int(std::floor(high));
+  return *lo <= *hi;
+}
+
 }  // namespace
 
 MarginCone MarginCone::Of(const KernelParams& p, int dx, int dy) {
@@ -48,31 +89,6 @@ MarginCone MarginCone::Of(const KernelParams& p, int dx, int dy) {
     cone.ratio[i] = a[i] != 0 ? -b[i] / a[i] : 0.0;
   }
   return cone;
-}
-
-bool MarginCone::Columns(const MarginViews& views, int row, int width, int* lo, int* hi) const {
-  *lo = 0;
-  *hi = width - 1;
-  if (all) return true;
-  double low = width, high = -1.0;  // the hull of the views' ranges
-  for (int v = 0; v < views.count; ++v) {
-    const double sx = double(views.x[v]) / kFixedOne, sy = double(views.y[v]) / kFixedOne;
-    const double vy = row + 0.5 - sy;
-    double c_lo = 0.0, c_hi = width - 1.0;
-    for (int i = 0; i < 2; ++i) {
-      // The column whose centre lies on the half-plane's edge, give or take a rounding.
-      const double edge = ratio[i] * vy + sx - 0.5;
-      if (side[i] > 0) c_lo = std::max(c_lo, edge - 1.0);
-      if (side[i] < 0) c_hi = std::min(c_hi, edge + 1.0);
-    }
-    if (c_lo > c_hi) continue;
-    low = std::min(low, c_lo);
-    high = std::max(high, c_hi);
-  }
-  if (low > high) return false;
-  *lo = int(std::ceil(low));
-  *hi = int(std::floor(high));
-  return *lo <= *hi;
 }
 
 void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
@@ -131,6 +147,7 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
         free_any |= out[w];
       }
       near_pad[0] = near_pad[nw + 1] = 0;
+      const RowViews lines(views, r);
       for (int dy = -k; dy <= k && free_any != 0; ++dy) {
         const int rr = r + dy;
         if (rr < 0 || rr >= height) continue;
@@ -138,8 +155,8 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
         for (int dx = -k; dx <= k; ++dx) {
           int lo, hi;
           if ((dx == 0 && dy == 0) ||
-              !margin_cones_[std::size_t((dy + k) * (2 * k + 1) + dx + k)].Columns(views, r, width,
-                                                                                   &lo, &hi))
+              !ConeColumns(margin_cones_[std::size_t((dy + k) * (2 * k + 1) + dx + k)], lines,
+                           width, &lo, &hi))
             continue;
           const int shift = dx & 63, word = (dx >> 6) + 1;  // dx >> 6 floors negative dx too
           for (int w = lo >> 6; w <= hi >> 6; ++w) {

@@ -32,10 +32,6 @@ struct MarginCone {
   double ratio[2] = {0.0, 0.0};
 
   static MarginCone Of(const KernelParams& p, int dx, int dy);
-  // Columns [lo, hi] of row `row` holding every cell whose line of sight from one of `views`
-  // passes the cone (found in floating point and widened by a column; the exact test
-  // InMarginConeOfAny() still decides each cell); false when there are none.
-  bool Columns(const MarginViews& views, int row, int width, int* lo, int* hi) const;
 };
 
 class HostBackend final : public Backend {
