@@ -12,8 +12,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <cmath>
 
+#include "core/fixed_point.hpp"
 #include "host/host_backend.hpp"
 
 namespace freespace {
@@ -69,8 +69,8 @@ bool ConeColumns(const MarginCone& cone, const RowViews& row, int width, int* lo
     high = std::max(high, c_hi);
   }
   if (low > high) return false;
-  *lo = int(std::ceil(low));
-  *hi = int(std::floor(high));
+  *lo = -FloorCell(-low);  // the ceiling, without a library call (core/fixed_point.hpp)
+  *hi = FloorCell(high);
   return *lo <= *hi;
 }
 

@@ -150,7 +150,8 @@ class FaceWalker {
         last_point = i + 1;
         continue;
       }
-      const int pieces = std::max(1, int(std::ceil(length)));
+      const int whole = int(length);  // the ceiling of length >= 0, without a library call
+      const int pieces = std::max(1, whole + (whole < length));
       if (pieces == 1) {  // the face itself, its ends as they are
         if (!Outside(a, b)) AddPiece(a, b, t_, width_, height_, sink);
         continue;
