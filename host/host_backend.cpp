@@ -47,6 +47,11 @@ HostBackend::HostBackend(const KernelParams& params, int threads)
   opening_index_ = std::move(opening.index);
   bits_eroded_.assign(opening_widths_.size() * bits_strong_.size(), 0);
   bits_dilated_.assign(bits_eroded_.size(), 0);
+  // The margin's cone per offset (dy, dx) within margin_cells, row by row: fixed by the params.
+  const int k = params.margin_cells;
+  for (int dy = -k; dy <= k; ++dy) {
+    for (int dx = -k; dx <= k; ++dx) margin_cones_.push_back(MarginCone::Of(params, dx, dy));
+  }
 }
 
 void HostBackend::Clear() {

@@ -99,10 +99,6 @@ void HostBackend::Mask(const SensorCell& sensor, const MarginViews& views) {
   const RowSpan write = span.Hull(mask_rows_);
   const LogOdds* map = map_.data();
   const std::uint64_t valid_last = (width % 64) ? (~0ull >> (64 - width % 64)) : ~0ull;
-  margin_cones_.clear();
-  for (int dy = -k; dy <= k; ++dy) {
-    for (int dx = -k; dx <= k; ++dx) margin_cones_.push_back(MarginCone::Of(params_, dx, dy));
-  }
   // The margin's sources of row rr, into src (nw words): outside the rows Classify() kept, every
   // cell is unknown.
   const auto sources = [&](int rr, std::uint64_t* src) {

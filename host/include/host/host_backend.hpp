@@ -103,7 +103,7 @@ class HostBackend final : public Backend {
   std::vector<std::uint64_t> mask_;            // stage 3b output: the polygon mask, bitset rows
   RowSpan mask_rows_;                          // every row of mask_ with a set bit
   std::vector<std::uint64_t> mask_blocks_;     // its full 8 x 8 blocks (FullBlocks)
-  std::vector<MarginCone> margin_cones_;       // stage 3b: per offset within the margin
+  std::vector<MarginCone> margin_cones_;       // stage 3b: per offset within the margin (fixed)
   std::vector<std::uint64_t> edge_seen_;       // stage 4: stop cells already in C_Edge (bitset)
   std::vector<std::int32_t> stop_;             // stage 4: stop cell per label
   std::vector<std::int32_t> delta_;  // conventional model: per-cell sum of one scan's rays
