@@ -118,6 +118,50 @@ TEST(MoverLayer, FastAtan2) {
   }
 }
 
+TEST(MoverLayer, FastAtan2AtTheOriginAndOnTheAxes) {
+  EXPECT_EQ(FastAtan2(0.0f, 0.0f), 0.0f);
+  EXPECT_EQ(FastAtan2(-0.0f, -0.0f), 0.0f);
+  EXPECT_NEAR(FastAtan2(0.0f, 2.0f), 0.0, 1e-7);
+  EXPECT_NEAR(FastAtan2(2.0f, 0.0f), M_PI / 2, 1e-6);
+  EXPECT_NEAR(FastAtan2(-2.0f, 0.0f), -M_PI / 2, 1e-6);
+  EXPECT_NEAR(FastAtan2(0.0f, -2.0f), M_PI, 1e-6);
+  EXPECT_NEAR(FastAtan2(1.0f, 1.0f), M_PI / 4, 2e-5);
+  EXPECT_NEAR(FastAtan2(-1.0f, -1.0f), -3 * M_PI / 4, 2e-5);
+}
+
+// The pass over many points (ToOutlineFrame) answers as the test of one point does, hint and all.
+TEST(MoverLayer, OutlineFrameAgreesWithOnePoint) {
+  MoverTracker::Outline outline;
+  outline.pose = Pose2D{3.0, -1.0, 0.7};
+  outline.cos_yaw = std::cos(0.7);
+  outline.sin_yaw = std::sin(0.7);
+  const double bin = 0.25 * M_PI / 180.0;
+  for (int i = 0; i < 400; ++i) {
+    outline.angle.push_back(float(-0.8 + i * bin));
+    outline.range.push_back(float(6.0 + 3.0 * std::sin(i * 0.05)));
+  }
+  std::vector<Vec2> points;
+  for (int i = 0; i < 1000; ++i) {
+    const double a = 0.7 - 1.0 + i * 0.0021, r = 2.0 + 0.011 * i;
+    points.push_back(Vec2(3.0 + r * std::cos(a), -1.0 + r * std::sin(a)));
+  }
+  points.push_back(Vec2(3.0, -1.0));  // the sensor itself
+  OutlineFrame frame;
+  ToOutlineFrame(outline, points, &frame);
+  ASSERT_EQ(frame.angle.size(), points.size());
+  std::size_t hint_one = 0, hint_many = 0;
+  int inside = 0;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const bool one = InsideOutline(outline, points[k], bin, 0.3, kSpread, &hint_one);
+    const bool many = InsideOutlineAt(outline, frame, k, bin, 0.3, kSpread, &hint_many);
+    EXPECT_EQ(one, many) << k;
+    EXPECT_EQ(hint_one, hint_many) << k;
+    inside += many;
+  }
+  EXPECT_GT(inside, 50);
+  EXPECT_LT(inside, 950);
+}
+
 TEST(MoverLayer, OffWithoutMemory) {
   Config c;
   c.polygon.shape = PolygonShape::kInside;

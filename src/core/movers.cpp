@@ -54,15 +54,14 @@ MoverRule MoverRule::Of(const Config& config) {
   return rule;
 }
 
-bool InsideOutline(const MoverTracker::Outline& outline, const Vec2& p, double bin_width_rad,
-                   double margin, int spread, std::size_t* at) {
-  const double c = outline.cos_yaw, s = outline.sin_yaw;
-  const double dx = p.x() - outline.pose.x, dy = p.y() - outline.pose.y;
-  const double x = c * dx + s * dy, y = -s * dx + c * dy;
+namespace {
+
+// InsideOutline() of the point (x, y) in the outline's sensor frame at angle a (FastAtan2).
+bool InsideAt(const MoverTracker::Outline& outline, double x, double y, float a,
+              double bin_width_rad, double margin, int spread, std::size_t* at) {
   const std::vector<float>& angle = outline.angle;
   const std::size_t n = angle.size();
   if (n < 2) return false;
-  float a = FastAtan2(float(y), float(x));
   if (a < angle.front()) a += float(2.0 * M_PI);  // the outline's angles run from the first on
   if (!(a >= angle.front()) || !(a < angle.back())) return false;
   // The first beam after a: a few steps from the hint (consecutive points lie at neighbouring
@@ -91,6 +90,44 @@ bool InsideOutline(const MoverTracker::Outline& outline, const Vec2& p, double b
   return reach > 0.0 && x * x + y * y < reach * reach;
 }
 
+}  // namespace
+
+bool InsideOutline(const MoverTracker::Outline& outline, const Vec2& p, double bin_width_rad,
+                   double margin, int spread, std::size_t* at) {
+  const double c = outline.cos_yaw, s = outline.sin_yaw;
+  const double dx = p.x() - outline.pose.x, dy = p.y() - outline.pose.y;
+  const double x = c * dx + s * dy, y = -s * dx + c * dy;
+  return InsideAt(outline, x, y, FastAtan2(float(y), float(x)), bin_width_rad, margin, spread,
+                  at);
+}
+
+void ToOutlineFrame(const MoverTracker::Outline& outline, const std::vector<Vec2>& points,
+                    OutlineFrame* frame) {
+  const std::size_t n = points.size();
+  frame->x.resize(n);
+  frame->y.resize(n);
+  frame->angle.resize(n);
+  const double c = outline.cos_yaw, s = outline.sin_yaw;
+  const double px = outline.pose.x, py = outline.pose.y;
+  double* fx = frame->x.data();
+  double* fy = frame->y.data();
+  float* fa = frame->angle.data();
+  for (std::size_t k = 0; k < n; ++k) {
+    const double dx = points[k].x() - px, dy = points[k].y() - py;
+    const double x = c * dx + s * dy, y = -s * dx + c * dy;
+    fx[k] = x;
+    fy[k] = y;
+    fa[k] = FastAtan2(float(y), float(x));
+  }
+}
+
+bool InsideOutlineAt(const MoverTracker::Outline& outline, const OutlineFrame& frame,
+                     std::size_t k, double bin_width_rad, double margin, int spread,
+                     std::size_t* at) {
+  return InsideAt(outline, frame.x[k], frame.y[k], frame.angle[k], bin_width_rad, margin, spread,
+                  at);
+}
+
 void MoverTracker::Clear() {
   for (auto& h : history_) h.clear();
   view_.clear();
@@ -117,24 +154,40 @@ void MoverTracker::Detect(int sensor, const Pose2D& pose, double t,
   outline.cos_yaw = std::cos(pose.yaw);
   outline.sin_yaw = std::sin(pose.yaw);
   outline.t = t;
+  const std::size_t n = beams.size();
   std::vector<Vec2>& points = pending.points;
-  points.resize(beams.size());
-  outline.angle.reserve(beams.size());
-  outline.range.reserve(beams.size());
-  outline.world.reserve(beams.size());
-  outline.beam.reserve(beams.size());
-  outline.real.reserve(beams.size());
-  for (std::size_t i = 0; i < beams.size(); ++i) {
+  points.resize(n);
+  outline.angle.reserve(n);
+  outline.range.reserve(n);
+  outline.world.reserve(n);
+  outline.beam.reserve(n);
+  outline.real.reserve(n);
+  // The beams' points, angles and ranges in one pass (several at once), then the outline.
+  pending.angle.resize(n);
+  pending.range.resize(n);
+  const double c = outline.cos_yaw, s = outline.sin_yaw;
+  Vec2* world = points.data();
+  float* angle = pending.angle.data();
+  float* range = pending.range.data();
+  for (std::size_t i = 0; i < n; ++i) {  // the vertices first, into the outputs' places
+    angle[i] = beams[i].x;
+    range[i] = beams[i].y;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const float x = angle[i], y = range[i];
+    world[i] = Vec2(pose.x + c * x - s * y, pose.y + s * x + c * y);
+    angle[i] = FastAtan2(y, x);
+    range[i] = std::sqrt(x * x + y * y);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
     const Beam& b = beams[i];
-    points[i] = Vec2(pose.x + outline.cos_yaw * b.x - outline.sin_yaw * b.y,
-                     pose.y + outline.sin_yaw * b.x + outline.cos_yaw * b.y);
-    float a = FastAtan2(b.y, b.x);
+    float a = pending.angle[i];
     // Unwrapped past +-180 deg (an aperture may cross it): the angles run on from the first.
     if (!outline.angle.empty() && a < outline.angle.back() - float(M_PI)) a += float(2.0 * M_PI);
     // The deskewed beams keep their order but for a rounding: the inside test needs it strict.
     if (!outline.angle.empty() && a <= outline.angle.back()) continue;
     outline.angle.push_back(a);
-    outline.range.push_back(std::sqrt(b.x * b.x + b.y * b.y));
+    outline.range.push_back(pending.range[i]);
     outline.world.push_back(points[i]);
     outline.beam.push_back(std::uint32_t(i));
     outline.real.push_back(!b.is_virtual);
@@ -176,23 +229,26 @@ void MoverTracker::FindMoving(const Outline& reference, const std::vector<Beam>&
   std::vector<std::uint8_t> moving(beams.size(), 0);
   // Came nearer: this scan's echo inside the reference outline.
   const auto nearer = [&] {
+    ToOutlineFrame(reference, points, &pending->near);
     std::size_t hint = 0;
     for (std::size_t i = 0; i < beams.size(); ++i) {
       const Beam& b = beams[i];
       if (b.is_virtual) continue;
       const double margin = rule_.tolerance_m + 2.0 * b.range * rule_.bin_width_rad;
-      moving[i] = InsideOutline(reference, points[i], rule_.bin_width_rad, margin, kSpread, &hint);
+      moving[i] = InsideOutlineAt(reference, pending->near, i, rule_.bin_width_rad, margin,
+                                  kSpread, &hint);
     }
   };
   // Went away: the reference's echo inside this outline; the beams on either side of it see past
   // (marked apart: the two loops may run at once).
   std::vector<std::uint8_t> past(beams.size(), 0);
   const auto away = [&] {
+    ToOutlineFrame(outline, reference.world, &pending->away);
     std::size_t at = 0;
     for (std::size_t k = 0; k < reference.angle.size(); ++k) {
       if (!reference.real[k]) continue;
       const double margin = rule_.tolerance_m + 2.0 * reference.range[k] * rule_.bin_width_rad;
-      if (!InsideOutline(outline, reference.world[k], rule_.bin_width_rad, margin, kSpread, &at))
+      if (!InsideOutlineAt(outline, pending->away, k, rule_.bin_width_rad, margin, kSpread, &at))
         continue;
       past[outline.beam[at - 1]] = past[outline.beam[at]] = 1;
     }

@@ -78,6 +78,13 @@ struct MapFrame {
   int height = 0;
 };
 
+// Points in an outline's sensor frame: (x, y) and their angle FastAtan2(float(y), float(x)), as
+// InsideOutline() takes them (ToOutlineFrame()), for many points in one pass.
+struct OutlineFrame {
+  std::vector<double> x, y;
+  std::vector<float> angle;
+};
+
 class MoverTracker {
  public:
   explicit MoverTracker(const MoverRule& rule) : rule_(rule) {}
@@ -157,6 +164,8 @@ class MoverTracker {
     Outline outline;
     std::vector<Observation> found;
     std::vector<Vec2> points;  // the scan's beams in the world
+    std::vector<float> angle, range;  // the beams' FastAtan2 angles and ranges, sensor frame
+    OutlineFrame near, away;  // this scan's points in the reference's frame and the reverse
   };
   // The runs of this scan (`pending`'s outline and points, `beams`) with moving echoes: echoes
   // inside the reference outline (the object came nearer), and echoes where the reference's echo
@@ -177,16 +186,17 @@ class MoverTracker {
 
 // atan2 to within 1e-5 rad, at a fraction of its cost: the outlines' angles and their look-ups.
 inline float FastAtan2(float y, float x) {
-  // atan on [-1, 1] by an odd polynomial (error below 1e-5), then the octant.
+  // atan on [-1, 1] by an odd polynomial (error below 1e-5), then the octant; selects rather
+  // than branches, so that a loop over many points can run several at once (movers.cpp).
   const float ax = std::abs(x), ay = std::abs(y);
-  if (ax == 0.0f && ay == 0.0f) return 0.0f;
-  const bool steep = ay > ax;
-  const float z = steep ? ax / ay : ay / ax, z2 = z * z;
+  const bool steep = ay > ax, origin = (ax == 0.0f) & (ay == 0.0f);
+  const float z = (steep ? ax : ay) / (steep ? ay : (origin ? 1.0f : ax)), z2 = z * z;
   float a = z * (0.9998660f +
                  z2 * (-0.3302995f + z2 * (0.1801410f + z2 * (-0.0851330f + z2 * 0.0208351f))));
-  if (steep) a = 1.57079633f - a;
-  if (x < 0.0f) a = 3.14159265f - a;
-  return y < 0.0f ? -a : a;
+  a = steep ? 1.57079633f - a : a;
+  a = x < 0.0f ? 3.14159265f - a : a;
+  a = y < 0.0f ? -a : a;
+  return origin ? 0.0f : a;
 }
 
 // Whether world point p lies inside `outline` by more than `margin` metres along its beam: nearer
@@ -197,5 +207,12 @@ inline float FastAtan2(float y, float x) {
 // the outline's angles.
 bool InsideOutline(const MoverTracker::Outline& outline, const Vec2& p, double bin_width_rad,
                    double margin, int spread = 0, std::size_t* at = nullptr);
+
+void ToOutlineFrame(const MoverTracker::Outline& outline, const std::vector<Vec2>& points,
+                    OutlineFrame* frame);
+// InsideOutline() of point k of `frame`.
+bool InsideOutlineAt(const MoverTracker::Outline& outline, const OutlineFrame& frame,
+                     std::size_t k, double bin_width_rad, double margin, int spread,
+                     std::size_t* at);
 
 }  // namespace freespace
