@@ -60,22 +60,24 @@ void SensorModel::Update(Preprocessor* preprocess, const Vec2& sensor, double ya
   const int width = backend->params().width, height = backend->params().height;
   const Clock::time_point start = Clock::now();
   ScanProjection scan;
-  Project(preprocess, sensor, yaw, width, height, &scan, !parallel);
-  if (!parallel) beside();
-  const Clock::time_point projected = Clock::now();
-  times->rasterize_us += Micros(start, projected);
   if (!parallel) {
+    Project(preprocess, sensor, yaw, width, height, &scan, true);
+    beside();
+    times->rasterize_us += Micros(start, Clock::now());
     Apply(scan, backend, times);
     return;
   }
-  double apply_us = 0.0;
+  // The side work from the start: the projection, one thread's work, leaves a core to it.
+  double own_us = 0.0;  // the projection's and Apply()'s time on their branch
   tbb::parallel_invoke([&] { beside(); },
                        [&] {
                          const Clock::time_point begin = Clock::now();
+                         Project(preprocess, sensor, yaw, width, height, &scan, false);
+                         times->rasterize_us += Micros(begin, Clock::now());
                          Apply(scan, backend, times);
-                         apply_us = Micros(begin, Clock::now());
+                         own_us = Micros(begin, Clock::now());
                        });
-  times->rasterize_us += std::max(0.0, Micros(projected, Clock::now()) - apply_us);
+  times->rasterize_us += std::max(0.0, Micros(start, Clock::now()) - own_us);
 }
 
 std::unique_ptr<SensorModel> MakeSensorModel(const Config& config) {

@@ -53,9 +53,9 @@ class SensorModel {
 
   // Project() then Apply(), the projection's time counted in times->rasterize_us; `beside`
   // (host work that reads the scan and writes neither the preprocessor nor the backend) runs
-  // too. With `parallel` it runs beside Apply(), times->rasterize_us takes what it adds to
-  // Apply()'s time, and the face layer is left to Preprocessor::ProjectFaces(); else in turn,
-  // the face layer projected with the scan, all counted.
+  // too. With `parallel` it runs beside both, times->rasterize_us takes what it adds to their
+  // time, and the face layer is left to Preprocessor::ProjectFaces(); else in turn, the face
+  // layer projected with the scan, all counted.
   void Update(Preprocessor* preprocess, const Vec2& sensor, double yaw, Backend* backend,
               StageTimes* times, SideWork beside = SideWork(), bool parallel = false) const;
 };
