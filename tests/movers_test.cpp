@@ -152,6 +152,8 @@ TEST(MoverLayer, OutlineFrameAgreesWithOnePoint) {
   std::size_t hint_one = 0, hint_many = 0;
   int inside = 0;
   for (std::size_t k = 0; k < points.size(); ++k) {
+    // The pass's angle, to the bit, is the one-point function's of the pass's coordinates.
+    EXPECT_EQ(frame.angle[k], FastAtan2(float(frame.y[k]), float(frame.x[k]))) << k;
     const bool one = InsideOutline(outline, points[k], bin, 0.3, kSpread, &hint_one);
     const bool many = InsideOutlineAt(outline, frame, k, bin, 0.3, kSpread, &hint_many);
     EXPECT_EQ(one, many) << k;

@@ -187,7 +187,8 @@ class MoverTracker {
 // atan2 to within 1e-5 rad, at a fraction of its cost: the outlines' angles and their look-ups.
 inline float FastAtan2(float y, float x) {
   // atan on [-1, 1] by an odd polynomial (error below 1e-5), then the octant; selects rather
-  // than branches, so that a loop over many points can run several at once (movers.cpp).
+  // than branches, so that a loop over many points can run several at once (the mover layer's
+  // passes over a scan, movers.cpp and mover_outline.cpp).
   const float ax = std::abs(x), ay = std::abs(y);
   const bool steep = ay > ax, origin = (ax == 0.0f) & (ay == 0.0f);
   const float z = (steep ? ax : ay) / (steep ? ay : (origin ? 1.0f : ax)), z2 = z * z;
@@ -208,6 +209,7 @@ inline float FastAtan2(float y, float x) {
 bool InsideOutline(const MoverTracker::Outline& outline, const Vec2& p, double bin_width_rad,
                    double margin, int spread = 0, std::size_t* at = nullptr);
 
+// `points` (world) in the sensor frame of `outline`, into `frame` (one entry per point).
 void ToOutlineFrame(const MoverTracker::Outline& outline, const std::vector<Vec2>& points,
                     OutlineFrame* frame);
 // InsideOutline() of point k of `frame`.
