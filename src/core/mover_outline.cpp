@@ -1,9 +1,9 @@
 // The mover layer's inside test (movers.hpp): a point against a scan's outline, one at a time
 // or a whole scan's points in one pass.
-#include "core/movers.hpp"
-
 #include <algorithm>
 #include <cmath>
+
+#include "core/movers.hpp"
 
 namespace freespace {
 
@@ -50,8 +50,7 @@ bool InsideOutline(const MoverTracker::Outline& outline, const Vec2& p, double b
   const double c = outline.cos_yaw, s = outline.sin_yaw;
   const double dx = p.x() - outline.pose.x, dy = p.y() - outline.pose.y;
   const double x = c * dx + s * dy, y = -s * dx + c * dy;
-  return InsideAt(outline, x, y, FastAtan2(float(y), float(x)), bin_width_rad, margin, spread,
-                  at);
+  return InsideAt(outline, x, y, FastAtan2(float(y), float(x)), bin_width_rad, margin, spread, at);
 }
 
 void ToOutlineFrame(const MoverTracker::Outline& outline, const std::vector<Vec2>& points,
@@ -74,9 +73,8 @@ void ToOutlineFrame(const MoverTracker::Outline& outline, const std::vector<Vec2
   }
 }
 
-bool InsideOutlineAt(const MoverTracker::Outline& outline, const OutlineFrame& frame,
-                     std::size_t k, double bin_width_rad, double margin, int spread,
-                     std::size_t* at) {
+bool InsideOutlineAt(const MoverTracker::Outline& outline, const OutlineFrame& frame, std::size_t k,
+                     double bin_width_rad, double margin, int spread, std::size_t* at) {
   return InsideAt(outline, frame.x[k], frame.y[k], frame.angle[k], bin_width_rad, margin, spread,
                   at);
 }

@@ -163,8 +163,8 @@ void MoverTracker::FindMoving(const Outline& reference, const std::vector<Beam>&
       const Beam& b = beams[i];
       if (b.is_virtual) continue;
       const double margin = rule_.tolerance_m + 2.0 * b.range * rule_.bin_width_rad;
-      moving[i] = InsideOutlineAt(reference, pending->near, i, rule_.bin_width_rad, margin,
-                                  kSpread, &hint);
+      moving[i] =
+          InsideOutlineAt(reference, pending->near, i, rule_.bin_width_rad, margin, kSpread, &hint);
     }
   };
   // Went away: the reference's echo inside this outline; the beams on either side of it see past

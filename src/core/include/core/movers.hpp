@@ -163,9 +163,9 @@ class MoverTracker {
     bool ready = false;
     Outline outline;
     std::vector<Observation> found;
-    std::vector<Vec2> points;  // the scan's beams in the world
+    std::vector<Vec2> points;         // the scan's beams in the world
     std::vector<float> angle, range;  // the beams' FastAtan2 angles and ranges, sensor frame
-    OutlineFrame near, away;  // this scan's points in the reference's frame and the reverse
+    OutlineFrame near, away;          // this scan's points in the reference's frame and the reverse
   };
   // The runs of this scan (`pending`'s outline and points, `beams`) with moving echoes: echoes
   // inside the reference outline (the object came nearer), and echoes where the reference's echo
@@ -213,8 +213,7 @@ bool InsideOutline(const MoverTracker::Outline& outline, const Vec2& p, double b
 void ToOutlineFrame(const MoverTracker::Outline& outline, const std::vector<Vec2>& points,
                     OutlineFrame* frame);
 // InsideOutline() of point k of `frame`.
-bool InsideOutlineAt(const MoverTracker::Outline& outline, const OutlineFrame& frame,
-                     std::size_t k, double bin_width_rad, double margin, int spread,
-                     std::size_t* at);
+bool InsideOutlineAt(const MoverTracker::Outline& outline, const OutlineFrame& frame, std::size_t k,
+                     double bin_width_rad, double margin, int spread, std::size_t* at);
 
 }  // namespace freespace
