@@ -31,6 +31,11 @@ for f in scaling_map.png scaling_points.png; do
 done
 grep -q "The paper's comparisons, this run" "$out/parking.txt" || fail "no comparison summary"
 grep -q "accuracy on observed cells" "$out/parking.txt" || fail "no accuracy in the text report"
+# The polygon shapes' table: every stage, each with the ratio inside / paper but the mask.
+sed -n '/^Polygon (median us per scan/,/^  total/p' "$out/parking.txt" >"$out/shapes.txt"
+for stage in preprocess align rasterize fuse classify mask insight polygon total; do
+  grep -q "^  $stage " "$out/shapes.txt" || fail "no $stage row in the polygon shapes' table"
+done
 
 python3 - "$out/parking/bench.json" <<'EOF' || fail "bench.json of the scenario run"
 import json, sys
@@ -63,6 +68,14 @@ a = r["alignment"]
 check(a["circle"]["error"]["different_fraction"] == 0, "circle differs from the reference")
 check(a["circle"]["error"]["class_mismatch"] == 0, "circle class mismatch")
 check(a["rotate"]["error"]["different_fraction"] > 0, "rotate shows no error")
+# Both polygon shapes over the same scans in turn: each ran every one of them.
+shapes = r["polygon_shape"]
+for shape in ("paper", "inside"):
+    check(shapes[shape]["backend"] == "tbb" and shapes[shape]["scans"] == 24, shape + " scans")
+    for s in ("preprocess", "classify", "insight", "polygon", "total"):
+        check(shapes[shape]["stage_us"][s]["median"] > 0, shape + " stage " + s)
+check(shapes["paper"]["stage_us"]["mask"]["median"] == 0, "the paper's polygon has no mask stage")
+check(shapes["inside"]["stage_us"]["mask"]["median"] > 0, "the conservative polygon's mask stage")
 p = r["comparisons"]
 check(len(r["load_average"]) == 2, "load average")
 for k in ("enhanced_model_speedup", "enhanced_time_saved_percent", "enhanced_map_time_saved_percent",

@@ -55,8 +55,8 @@ std::vector<BackendPipeline> TimeBackends(const Config& config, const std::vecto
   return out;
 }
 
-// Enhanced vs conventional inverse sensor model, same scans, same backend (TBB); against the
-// truth on a simulated drive.
+// Enhanced vs conventional inverse sensor model, same scans in turn, same backend (TBB); against
+// the truth on a simulated drive.
 void CompareSensorModels(const Config& config, const BenchSource& source,
                          const BenchOptions& options, BenchReport* report) {
   Progress(options, "enhanced vs conventional inverse sensor model");
@@ -70,8 +70,10 @@ void CompareSensorModels(const Config& config, const BenchSource& source,
   enhanced.sensor_model.free_on_outline = conventional.sensor_model.free_on_outline = true;
   enhanced.polygon.face_tolerance_m = conventional.polygon.face_tolerance_m = 0.0;
   enhanced.sensor.sweep_s = conventional.sensor.sweep_s = 0.0;
-  report->enhanced = TimePipeline(enhanced, source.scans, options.warmup);
-  report->conventional = TimePipeline(conventional, source.scans, options.warmup);
+  std::vector<PipelineRun> runs =
+      TimePipelinesInTurn({enhanced, conventional}, source.scans, options.warmup);
+  report->enhanced = std::move(runs[0]);
+  report->conventional = std::move(runs[1]);
   report->coverage = SensorModelCoverage(enhanced, source.scans, 5);
   if (source.truth != nullptr) {
     Progress(options, "enhanced vs conventional against the truth");
@@ -80,7 +82,7 @@ void CompareSensorModels(const Config& config, const BenchSource& source,
   }
 }
 
-// The paper's polygon against the conservative one, same scans, TBB (issue 21's aims: the
+// The paper's polygon against the conservative one, same scans in turn, TBB (issue 21's aims: the
 // conservative polygon stage at most 3 times the paper's, the pipeline at most 1.3 times).
 void ComparePolygonShapes(const Config& config, const BenchSource& source,
                           const BenchOptions& options, BenchReport* report) {
@@ -98,8 +100,10 @@ void ComparePolygonShapes(const Config& config, const BenchSource& source,
     inside.polygon.face_tolerance_m = 0.05;
     inside.polygon.mover_memory_s = 3.0;
   }
-  report->paper_shape = TimePipeline(paper, source.scans, options.warmup);
-  report->inside_shape = TimePipeline(inside, source.scans, options.warmup);
+  std::vector<PipelineRun> runs =
+      TimePipelinesInTurn({paper, inside}, source.scans, options.warmup);
+  report->paper_shape = std::move(runs[0]);
+  report->inside_shape = std::move(runs[1]);
 }
 
 // The exponent of time against x per series, over all points and over x >= from.

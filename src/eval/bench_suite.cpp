@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <memory>
 
 #include "core/preprocess.hpp"
 #include "eval/reference_map.hpp"
@@ -58,6 +59,24 @@ PipelineRun TimePipeline(const Config& config, const std::vector<Scan>& scans, i
     if (run.scans++ >= warmup) run.times.Add(r.times);
   }
   return run;
+}
+
+std::vector<PipelineRun> TimePipelinesInTurn(const std::vector<Config>& configs,
+                                             const std::vector<Scan>& scans, int warmup) {
+  std::vector<std::unique_ptr<Estimator>> estimators;
+  std::vector<PipelineRun> runs;
+  for (const Config& config : configs) {
+    estimators.push_back(std::make_unique<Estimator>(config));
+    runs.push_back(StartRun(config, *estimators.back()));
+  }
+  for (const Scan& scan : scans) {
+    for (std::size_t k = 0; k < estimators.size(); ++k) {
+      const Result& r = estimators[k]->Process(scan);
+      if (r.status == ScanStatus::kRejected) continue;
+      if (runs[k].scans++ >= warmup) runs[k].times.Add(r.times);
+    }
+  }
+  return runs;
 }
 
 PipelineRun TimeCycles(const Config& config, const std::vector<std::vector<Scan>>& cycles,

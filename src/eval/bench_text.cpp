@@ -103,7 +103,8 @@ void PrintAlignment(std::FILE* out, const AlignmentComparison& a) {
 void PrintPolygonShapes(std::FILE* out, const BenchReport& r) {
   std::fprintf(out,
                "\nPolygon (median us per scan, TBB)              paper       inside   ratio\n");
-  for (const char* stage : {"mask", "insight", "polygon", "total"}) {
+  for (const char* stage : {"preprocess", "align", "rasterize", "fuse", "classify", "mask",
+                            "insight", "polygon", "total"}) {
     const double a = r.paper_shape.times.Quantile(stage, 0.5);
     const double b = r.inside_shape.times.Quantile(stage, 0.5);
     if (a > 0) {

@@ -29,6 +29,11 @@ struct PipelineRun {
 // Runs an estimator of `config` over `scans`; the first `warmup` processed scans are not
 // timed. Throws what the Estimator throws (ConfigError, BackendError).
 PipelineRun TimePipeline(const Config& config, const std::vector<Scan>& scans, int warmup);
+// Estimators of `configs` over the same `scans`, each scan processed by each of them in turn,
+// so that a change of the machine's speed during the run falls on all of them alike and their
+// ratios hold: one PipelineRun per config, as TimePipeline() would give it.
+std::vector<PipelineRun> TimePipelinesInTurn(const std::vector<Config>& configs,
+                                             const std::vector<Scan>& scans, int warmup);
 // The same for a rig: one Estimator::ProcessCycle() per cycle; `scans` counts cycles.
 PipelineRun TimeCycles(const Config& config, const std::vector<std::vector<Scan>>& cycles,
                        int warmup);
