@@ -31,7 +31,7 @@ for f in scaling_map.png scaling_points.png; do
 done
 grep -q "The paper's comparisons, this run" "$out/parking.txt" || fail "no comparison summary"
 grep -q "accuracy on observed cells" "$out/parking.txt" || fail "no accuracy in the text report"
-# The polygon shapes' table: every stage, each with the ratio inside / paper but the mask.
+# The polygon shapes' table: a row for every stage.
 sed -n '/^Polygon (median us per scan/,/^  total/p' "$out/parking.txt" >"$out/shapes.txt"
 for stage in preprocess align rasterize fuse classify mask insight polygon total; do
   grep -q "^  $stage " "$out/shapes.txt" || fail "no $stage row in the polygon shapes' table"
