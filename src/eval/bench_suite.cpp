@@ -51,14 +51,7 @@ PipelineRun StartRun(const Config& config, const Estimator& estimator) {
 }  // namespace
 
 PipelineRun TimePipeline(const Config& config, const std::vector<Scan>& scans, int warmup) {
-  Estimator estimator(config);
-  PipelineRun run = StartRun(config, estimator);
-  for (const Scan& scan : scans) {
-    const Result& r = estimator.Process(scan);
-    if (r.status == ScanStatus::kRejected) continue;
-    if (run.scans++ >= warmup) run.times.Add(r.times);
-  }
-  return run;
+  return TimePipelinesInTurn({config}, scans, warmup).front();
 }
 
 std::vector<PipelineRun> TimePipelinesInTurn(const std::vector<Config>& configs,
